@@ -1,0 +1,7 @@
+"""``python -m sielaff``: the same as the ``sielaff`` command."""
+
+import sys
+
+from sielaff.cli import main
+
+sys.exit(main())

@@ -1,0 +1,173 @@
+"""Read printed listings back: sheets, fields, and a field-aware diff.
+
+For people who hold old printouts: a listing (ours, or a transcription of
+a 1966 sheet) is split into sheets at the page-eject record ``1``, each
+sheet's sections are found by their headings, and each printed field is
+named after the listing variable it shows.  ``diff_listings`` matches
+sheets by THETA 2 and reports each differing field with the difference in
+units of the last printed digit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
+
+#: heading text -> (field names per value line, kind of each line: "E" or "F")
+SECTIONS: dict[str, tuple[tuple[tuple[str, ...], str], ...]] = {
+    "THETA 2": ((("ATH2", "ATH3", "ATH4"), "F"),),
+    "ANG VEL 3": ((("TH3D", "TH4D", "TH3DD", "TH4DD"), "E"),),
+    "EX TORQ ON 4": ((("TEX",), "E"),),
+    "VEL G2": ((("VG2", "VA", "VG3", "VB", "VG4"), "E"),
+               (("DVG2", "DVA", "DVG3", "DVB", "DVG4"), "F")),
+    "ACC G2": ((("AG2", "AA", "AG3", "AB", "AG4"), "E"),
+               (("DAG2", "DAA", "DAG3", "DAB", "DAG4"), "F")),
+    "F 3 ON 2": ((("FA32", "FB34", "FOA", "FOB"), "E"),
+                 (("DFA32", "DFB34", "DFOA", "DFOB"), "F")),
+    "SHAKE": ((("SHAK", "SHAKX", "SHAKY"), "E"), (("DSHAK",), "F")),
+    "DRIVING TORQ": ((("TORQ",), "E"),),
+}
+
+#: Printed heading of each field, for messages.
+LABELS = {
+    "ATH2": "THETA 2", "ATH3": "THETA 3", "ATH4": "THETA 4",
+    "TH3D": "ANG VEL 3", "TH4D": "ANG VEL 4", "TH3DD": "ANG ACC 3", "TH4DD": "ANG ACC 4",
+    "TEX": "EX TORQ ON 4", "TORQ": "DRIVING TORQ",
+    "SHAK": "SHAKE", "SHAKX": "X SHAKE", "SHAKY": "Y SHAKE", "DSHAK": "SHAKE direction",
+    "FA32": "F 3 ON 2", "FB34": "F 3 ON 4", "FOA": "F 2 ON 1", "FOB": "F 4 ON 1",
+}
+for _p, _h in (("V", "VEL"), ("A", "ACC")):
+    for _n, _pt in (("G2", "G2"), ("", "A"), ("G3", "G3"), ("B", "B"), ("G4", "G4")):
+        _name = (_p + _n) if _n else (_p + "A")
+        LABELS[_name] = f"{_h} {_pt}"
+        LABELS["D" + _name] = f"{_h} {_pt} direction"
+for _f in ("FA32", "FB34", "FOA", "FOB"):
+    LABELS["D" + _f] = LABELS[_f] + " direction"
+
+# Data lines: E fields start after 15X, F fields after 11X; both 12 wide.
+_START = {"E": 15, "F": 11}
+_WIDTH = 12
+
+
+class ListingError(ValueError):
+    """Text that is not a listing in the 1966 layout."""
+
+
+@dataclass
+class Field:
+    """One printed field: its text as printed and the kind of edit (E or F)."""
+
+    text: str
+    kind: str
+
+    def value(self) -> Decimal | None:
+        t = self.text.strip()
+        if not t or set(t) == {"*"}:
+            return None
+        if self.kind == "E":
+            mantissa, _, exp = t.partition("E")
+            t = f"{mantissa}E{exp.replace(' ', '+')}"
+        try:
+            return Decimal(t)
+        except InvalidOperation:
+            return None
+
+    def unit(self) -> Decimal:
+        """One unit in the last printed digit."""
+        if self.kind == "F":
+            return Decimal("0.1")
+        v = self.value()
+        exp = int(self.text.strip().partition("E")[2].replace(" ", "+") or 0) if v is not None else 0
+        return Decimal(1).scaleb(exp - 4)
+
+
+@dataclass
+class Sheet:
+    """One printed sheet: fields by listing name, and the line number it started on."""
+
+    fields: dict[str, Field] = field(default_factory=dict)
+    line: int = 0
+    message: str = ""
+
+    @property
+    def theta2(self) -> str:
+        f = self.fields.get("ATH2")
+        return f.text.strip() if f else "?"
+
+
+def parse_listing(text: str) -> list[Sheet]:
+    """Split ASA listing text into sheets and fields (see module doc)."""
+    sheets: list[Sheet] = []
+    sheet = Sheet(line=1)
+    pending: list[tuple[tuple[str, ...], str]] = []
+    for lineno, record in enumerate(text.splitlines(), 1):
+        control, body = record[:1], record[1:]
+        stripped = body.strip()
+        if control == "1":
+            sheets.append(sheet)
+            sheet = Sheet(line=lineno + 1)
+            pending = []
+            continue
+        if not stripped:
+            continue
+        heading = next((h for h in SECTIONS if stripped.startswith(h)), None)
+        if heading is not None:
+            pending = list(SECTIONS[heading])
+            continue
+        if "CRANK ROCKER" in stripped:
+            sheet.message = stripped
+            continue
+        if not pending:
+            raise ListingError(f"line {lineno}: values with no heading above them: {stripped!r}")
+        names, kind = pending.pop(0)
+        start = _START[kind]
+        for k, name in enumerate(names):
+            chunk = record[start + k * _WIDTH: start + (k + 1) * _WIDTH]
+            sheet.fields[name] = Field(chunk, kind)
+    if sheet.fields or sheet.message:
+        sheets.append(sheet)
+    return sheets
+
+
+def _units(got: Field, want: Field) -> str:
+    g, w = got.value(), want.value()
+    if g is None or w is None:
+        return "not comparable"
+    n = (g - w) / want.unit()
+    n = n.quantize(Decimal(1)) if n == n.to_integral_value() else n.normalize()
+    return f"{'+' if n > 0 else ''}{n} unit{'' if abs(n) == 1 else 's'} in the last digit"
+
+
+def diff_listings(listing: str, golden: str) -> list[str]:
+    """One line per field of ``golden`` that ``listing`` prints differently.
+
+    Sheets are matched by THETA 2 (the k-th golden sheet with a given THETA 2
+    against the k-th listing sheet with it).  ``golden`` may hold only some
+    sheets; fields that both print are compared by their printed text.
+    """
+    got_sheets = parse_listing(listing)
+    by_theta: dict[str, list[Sheet]] = {}
+    for s in got_sheets:
+        by_theta.setdefault(s.theta2, []).append(s)
+    seen: dict[str, int] = {}
+    out: list[str] = []
+    for want in parse_listing(golden):
+        key = want.theta2
+        k = seen[key] = seen.get(key, 0) + 1
+        candidates = by_theta.get(key, [])
+        where = f"THETA 2 = {key}"
+        if len(candidates) < k:
+            out.append(f"{where}: sheet not in the listing")
+            continue
+        got = candidates[k - 1]
+        if want.message != got.message:
+            out.append(f"{where}: message: got {got.message!r}, golden {want.message!r}")
+        for name, wf in want.fields.items():
+            gf = got.fields.get(name)
+            label = f"{name} ({LABELS.get(name, name)})"
+            if gf is None:
+                out.append(f"{where}: {label}: not printed, golden {wf.text.strip()}")
+            elif gf.text != wf.text:
+                out.append(f"{where}: {label}: got {gf.text.strip()}, golden "
+                           f"{wf.text.strip()} ({_units(gf, wf)})")
+    return out

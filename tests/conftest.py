@@ -1,0 +1,40 @@
+"""Shared fixtures: paths, the example deck, and the listing it prints."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DECKS = ROOT / "decks"
+GOLDEN = ROOT / "golden"
+
+
+def split_sheets(text: str) -> list[list[str]]:
+    """Records of an ASA listing grouped into sheets, each ending with its '1' record."""
+    sheets, current = [], []
+    for record in text.splitlines():
+        current.append(record)
+        if record == "1":
+            sheets.append(current)
+            current = []
+    assert not current, "listing does not end with a page eject"
+    return sheets
+
+
+@pytest.fixture(scope="session")
+def example_deck():
+    from sielaff.cards import read_deck
+
+    return read_deck(DECKS / "example.dat")
+
+
+@pytest.fixture(scope="session")
+def example_listing(example_deck) -> str:
+    from sielaff.emulator import run
+
+    buf = io.StringIO()
+    run(example_deck, buf)
+    return buf.getvalue()
