@@ -174,3 +174,23 @@ def test_render_gives_form_feeds(tmp_path):
     assert proc.returncode == 0
     assert proc.stdout.count("\f") == 37
     assert "\n" + " " * 17 + "THETA 2     THETA 3     THETA 4\n" in proc.stdout
+
+
+def test_kinematics_only_drops_statements_133_to_202_and_their_writes(example_deck,
+                                                                       example_listing):
+    from sielaff.listing import parse_listing
+
+    out = io.StringIO()
+    assert run(example_deck, out, kinematics_only=True) == 37
+    text = out.getvalue()
+    for heading in ("F 3 ON 2", "SHAKE", "DRIVING TORQ"):
+        assert heading not in text
+    assert "EX TORQ ON 4" in text  # statement 74 is outside 133-202
+    kin, full = parse_listing(text), parse_listing(example_listing)
+    assert len(kin) == len(full) == 37
+    for k, f in zip(kin, full):
+        assert set(k.fields) == set(f.fields) - {
+            "FA32", "FB34", "FOA", "FOB", "DFA32", "DFB34", "DFOA", "DFOB",
+            "SHAK", "SHAKX", "SHAKY", "DSHAK", "TORQ"}
+        assert all(k.fields[n].text == f.fields[n].text for n in k.fields)
+
