@@ -11,8 +11,8 @@ from __future__ import annotations
 import re
 
 import pytest
-from conftest import GOLDEN, split_sheets
 
+from conftest import GOLDEN, split_sheets
 from sielaff.listing import diff_listings, parse_listing
 
 # (THETA 2, field) -> (float64 prints, the 1410 printed)

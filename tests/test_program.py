@@ -8,10 +8,10 @@ import subprocess
 import sys
 
 import pytest
-from conftest import DECKS
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from conftest import DECKS
 from sielaff.arithmetic import Float64
 from sielaff.cards import parse_deck
 from sielaff.emulator import run, sheet_values

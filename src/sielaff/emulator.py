@@ -11,14 +11,23 @@ from __future__ import annotations
 
 import linecache
 import math
+import re
 import sys
 from collections.abc import Callable, Iterator
 from typing import TextIO
 
 from sielaff import program as _program_module
 from sielaff.arithmetic import ArithmeticError1410, get_arithmetic
-from sielaff.printer import Format
-from sielaff.program import FORMATS, KINEMATIC_FIELDS, SHEET_FIELDS, Program, ProgramError
+from sielaff.cards import PARAMETER_CARDS
+from sielaff.printer import Format, Unprintable, _strict_value
+from sielaff.program import (
+    FORMATS,
+    KINEMATIC_FIELDS,
+    SHEET_FIELDS,
+    NotCrankRocker,
+    Program,
+    ProgramError,
+)
 
 COMPILED = {n: Format(text) for n, text in FORMATS.items()}
 
@@ -35,28 +44,83 @@ def _failing_statement(exc: BaseException) -> str:
     return line.split("#", 1)[0].strip().replace(" ", "")
 
 
+def _zero_divisor(deck, exc: BaseException) -> str:
+    """' (R2 = 0 on card 3)' when the failing statement divides by a deck value that is 0."""
+    exact = getattr(deck, "exact", None) or {}
+    for name in re.findall(r"/\(?([A-Z][A-Z0-9]*)", _failing_statement(exc)):
+        if name in exact and exact[name] == 0:
+            card = next(n for n, names in enumerate(PARAMETER_CARDS, 1) if name in names)
+            return f" ({name} = 0 on card {card})"
+    return ""
+
+
+#: Format numbers that print values (the others are headings, blank lines, page eject).
+VALUE_FORMATS = frozenset((1, 2, 3, 4, 5, 6, 8, 9))
+
+
+def _unprintable(name: str, value) -> str:
+    """Why ``value`` (of quantity ``name``) could not have been printed by the 1410."""
+    number = float(value)
+    if not math.isfinite(number):
+        return (f"{name} is {number}: the 1966 arithmetic overflows or divides by zero "
+                "for this deck")
+    return (f"{name} = {number:.4E} is past the IBM 1410's range (|x| < 1E99): "
+            "the 1966 arithmetic overflows for this deck")
+
+
 class _SheetWriter:
-    """The WRITE statement: formats records and checks every printed value is finite."""
+    """The WRITE statement: formats records and hands the listing on a sheet at a time.
+
+    ``write(fmt, *values)`` appends the records' text; the page eject that
+    ends a sheet (FORMAT 18) sends the whole sheet to ``emit`` in one call,
+    and ``flush()`` sends whatever is left.  A value the 1410 could not have
+    held (not finite, ``|x| >= 1E99``) is a ProgramError naming the quantity,
+    and the sheet it is on is not written; a value below the 1410's range
+    (``0 < |x| < 1E-100``) prints as zero, as the 1410's exponent underflow
+    made it (see ``printer.fast_editor``).
+    """
 
     def __init__(self, emit: Callable[[str], None], kinematics_only: bool) -> None:
         self.emit = emit
         self.fields = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
         self.group = 0  # which value-carrying WRITE of the sheet comes next
+        self.parts: list[str] = []
+        self.texts: dict[tuple[int, int], Callable[..., str]] = {}
+
+    def _text_function(self, fmt: int, n: int) -> Callable[..., str]:
+        if n and fmt not in VALUE_FORMATS:
+            raise ProgramError(f"FORMAT {fmt} takes no values")
+        function = self.texts[fmt, n] = COMPILED[fmt].text_function(n, strict=True)
+        return function
 
     def __call__(self, fmt: int, *values) -> None:
+        text = self.texts.get((fmt, len(values)))
+        if text is None:
+            text = self._text_function(fmt, len(values))
         if values:
-            if fmt not in (1, 2, 3, 4, 5, 6, 8, 9):
-                raise ProgramError(f"FORMAT {fmt} takes no values")
-            names = self.fields[self.group]
-            self.group += 1
-            for name, value in zip(names, values):
-                if not math.isfinite(float(value)):
-                    raise ProgramError(f"{name} is {float(value)}: the 1966 arithmetic "
-                                       "overflows or divides by zero for this deck")
+            group = self.group
+            self.group = group + 1
+            try:
+                self.parts.append(text(*values))
+            except Unprintable:
+                self.parts.clear()
+                for name, value in zip(self.fields[group], values):
+                    try:
+                        _strict_value(value)
+                    except Unprintable:
+                        raise ProgramError(_unprintable(name, value)) from None
+                raise
+            return
+        self.parts.append(text())
+        if fmt == 18:
+            self.flush()
         elif fmt == 7:
             self.group = 0
-        for record in COMPILED[fmt].records(values):
-            self.emit(record)
+
+    def flush(self) -> None:
+        if self.parts:
+            self.emit("".join(self.parts))
+            self.parts.clear()
 
 
 def run(deck, out: TextIO, arithmetic: str = "float64",
@@ -66,16 +130,24 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
 
     Returns the number of sheets.  Raises ``program.NotCrankRocker`` (after
     the 1966 message is printed), ``program.SheetLimit`` and ``ProgramError``.
+    The listing is written a sheet at a time (one ``out.write`` per sheet),
+    so memory stays constant; a sheet that fails is not written.
     """
     notice = notice or (lambda kind, text: None)
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
-    writer = _SheetWriter(lambda record: out.write(record + "\n"), kinematics_only)
+    writer = _SheetWriter(out.write, kinematics_only)
     try:
-        return Program(ar, notice).MAIN(deck, writer, kinematics_only, max_sheets)
+        sheets = Program(ar, notice).MAIN(deck, writer, kinematics_only, max_sheets)
+    except NotCrankRocker:
+        writer.flush()  # FORMAT 20's message
+        raise
     except ZeroDivisionError as exc:
-        raise ProgramError(f"division by zero in {_failing_statement(exc)}") from exc
+        raise ProgramError(f"division by zero in {_failing_statement(exc)}"
+                           f"{_zero_divisor(deck, exc)}") from exc
     except (ArithmeticError1410, OverflowError) as exc:
         raise ProgramError(f"{exc} in {_failing_statement(exc)}") from exc
+    writer.flush()
+    return sheets
 
 
 def sheet_values(deck, arithmetic: str = "float64",

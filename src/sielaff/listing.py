@@ -77,7 +77,8 @@ class Field:
         if self.kind == "F":
             return Decimal("0.1")
         v = self.value()
-        exp = int(self.text.strip().partition("E")[2].replace(" ", "+") or 0) if v is not None else 0
+        exp_text = self.text.strip().partition("E")[2].replace(" ", "+")
+        exp = int(exp_text or 0) if v is not None else 0
         return Decimal(1).scaleb(exp - 4)
 
 

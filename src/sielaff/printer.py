@@ -90,6 +90,114 @@ def edit_f(value, w: int, d: int) -> str:
 _EDITORS: dict[str, Callable] = {"F": edit_f, "E": edit_e}
 
 
+# -- the fast path ---------------------------------------------------------
+# ``edit_e`` and ``edit_f`` above are the reference.  The emulator prints
+# millions of fields, so ``fast_editor`` builds editors that give exactly the
+# same text (tests/test_robust.py checks this on arbitrary floats) but take a
+# Python float's digits straight from ``repr`` (the shortest round-trip
+# decimal: "545.6", "-0.05", "1.25e-07") with a few slices, no Decimal and no
+# regular expression.  Any other number type (numpy float32, a 1410 decimal)
+# goes through the reference.
+
+class Unprintable(ValueError):
+    """A value the 1410 could not have held, met by a *strict* editor.
+
+    Strict editors are the emulator's: the 1410's numbers end at
+    ``|x| < 1E99``, so a printed value that is not finite or has ``|x| >= 1E99``
+    means the 1966 arithmetic would have overflowed (the listing would not
+    exist).  The emulator turns this into an error naming the quantity.
+    """
+
+
+#: "E-99" ... "E-01", "E 00" ... "E 99": the 1410's exponent, indexed by exponent + 99.
+_EXPONENT_TEXT = tuple(f"E-{-e:02d}" if e < 0 else f"E {e:02d}" for e in range(-99, 100))
+
+
+def _strict_value(value):
+    """``value`` as a strict editor prints it: Unprintable past the 1410's
+    range, 0.0 below it (the 1410's exponent underflow gives zero), else itself."""
+    parts = decimal_parts(value)
+    if parts is None:
+        raise Unprintable(value)
+    if parts[1]:
+        if parts[2] > 99:
+            raise Unprintable(value)
+        if parts[2] < -99:
+            return 0.0
+    return value
+
+
+def fast_editor(kind: str, w: int, d: int, strict: bool = False) -> Callable[[object], str]:
+    """An editor for one ``Ew.d`` or ``Fw.d`` field: the text of ``edit_e``/``edit_f``.
+
+    With ``strict`` a value that is not finite or has ``|x| >= 1E99`` raises
+    :class:`Unprintable` and one with ``0 < |x| < 1E-100`` prints as zero
+    (the 1410's range; see ``_strict_value``).  Without it such values print
+    as the reference does (``*`` fields).
+    """
+    kind = kind.upper()
+    reference = {"E": edit_e, "F": edit_f}[kind]
+    stars = "*" * w
+    pad = "0" * d
+    float_repr = float.__repr__
+
+    if strict:
+        def slow(value) -> str:
+            return reference(_strict_value(value), w, d)
+    else:
+        def slow(value) -> str:
+            return reference(value, w, d)
+
+    if kind == "F":
+        def edit_f_fast(value) -> str:
+            if type(value) is not float:
+                return slow(value)
+            s = float_repr(value)
+            if "e" in s or "n" in s:  # exponent form (|x| < 1E-4 or >= 1E16), inf, nan
+                return slow(value)
+            if s[0] == "-":
+                whole, _, frac = s[1:].partition(".")
+                text = "-" + whole.lstrip("0") + "." + (frac + pad)[:d]
+            else:
+                whole, _, frac = s.partition(".")
+                text = whole.lstrip("0") + "." + (frac + pad)[:d]
+            return text.rjust(w) if len(text) <= w else stars
+        return edit_f_fast
+
+    zero = "." + pad + "E-99"
+    zero = zero.rjust(w) if len(zero) <= w else stars
+    exponent_text = _EXPONENT_TEXT
+
+    def edit_e_fast(value) -> str:
+        if type(value) is not float:
+            return slow(value)
+        s = float_repr(value)
+        if s[0] == "-":
+            sign, s = "-", s[1:]
+        else:
+            sign = ""
+        cut = s.find("e")
+        if cut < 0:
+            whole, dot, frac = s.partition(".")
+            if not dot:  # inf, nan
+                return slow(value)
+            if whole != "0":
+                digits, exponent = whole + frac, len(whole)
+            else:
+                digits = frac.lstrip("0")
+                if not digits:
+                    return zero
+                exponent = len(digits) - len(frac)
+        else:  # "d.ddde-XX" or "de+XX": one nonzero digit before the point
+            exponent = int(s[cut + 1:]) + 1
+            if not -99 <= exponent <= 99:
+                return slow(value)
+            digits = s[0] + s[2:cut]
+        text = sign + "." + (digits + pad)[:d] + exponent_text[exponent + 99]
+        return text.rjust(w) if len(text) <= w else stars
+    return edit_e_fast
+
+
 def compile_format(text: str) -> list[tuple]:
     """Compile FORMAT text such as ``(//18X,7HTHETA 2/)`` into items.
 
@@ -129,6 +237,67 @@ class Format:
         self.text = text
         self.items = compile_format(text)
         self.n_edits = sum(1 for it in self.items if it[0] == "edit")
+        self._text_functions: dict[tuple[int, bool], Callable[..., str]] = {}
+
+    def text_function(self, n: int, strict: bool = False) -> Callable[..., str]:
+        """A function of ``n`` values giving the records of one WRITE, each ending in a newline.
+
+        Equal to ``"".join(r + "\n" for r in self.records(values))`` (with
+        strict editors if ``strict``: see ``fast_editor``), but compiled
+        once into a single expression of literals and fast editors.
+        """
+        key = (n, strict)
+        cached = self._text_functions.get(key)
+        if cached is not None:
+            return cached
+        if n > self.n_edits:
+            raise FormatError(f"{n} values for {self.n_edits} fields in {self.text}")
+        namespace: dict[str, object] = {}
+        pieces: list[tuple[bool, str]] = []  # (is_literal, text or expression)
+        record: list[tuple[bool, str]] = []
+        may_be_empty = True
+
+        def end_record() -> None:
+            nonlocal may_be_empty
+            if not record:
+                pieces.append((True, " "))
+            elif may_be_empty:  # only empty literals or zero-width fields: "" prints " "
+                expr = " + ".join(t if not lit else repr(t) for lit, t in record)
+                pieces.append((False, f"(({expr}) or ' ')"))
+            else:
+                pieces.extend(record)
+            pieces.append((True, "\n"))
+            record.clear()
+            may_be_empty = True
+
+        k = 0
+        for item in self.items:
+            if item[0] == "lit":
+                record.append((True, item[1]))
+                may_be_empty = may_be_empty and not item[1]
+            elif item[0] == "edit":
+                if k == n:
+                    break  # output stops at the first field with no list item
+                kind = "E" if item[1] is edit_e else "F"
+                namespace[f"_e{k}"] = fast_editor(kind, item[2], item[3], strict)
+                record.append((False, f"_e{k}(v{k})"))
+                may_be_empty = may_be_empty and item[2] == 0
+                k += 1
+            else:
+                end_record()
+        end_record()
+        merged: list[tuple[bool, str]] = []
+        for lit, text in pieces:
+            if lit and merged and merged[-1][0]:
+                merged[-1] = (True, merged[-1][1] + text)
+            else:
+                merged.append((lit, text))
+        expr = " + ".join(repr(t) if lit else t for lit, t in merged)
+        args = ", ".join(f"v{i}" for i in range(n))
+        exec(f"def _text({args}):\n    return {expr}\n", namespace)  # noqa: S102
+        function = namespace["_text"]
+        self._text_functions[key] = function
+        return function
 
     def records(self, values: Iterable = ()) -> list[str]:
         """The records one WRITE with this FORMAT and these values produces."""
@@ -159,27 +328,32 @@ _END = object()
 
 
 class AsaRenderer:
-    """A text stream that takes ASA records (one per ``write``, newline-terminated)
-    and writes plain text, as POSIX ``asa`` does: ``1`` becomes a form feed,
-    ``0`` a blank line, ``+`` a carriage return (overprint)."""
+    """A text stream that takes ASA records (newline-terminated, one or more per
+    ``write``) and writes plain text, as POSIX ``asa`` does: ``1`` becomes a
+    form feed, ``0`` a blank line, ``+`` a carriage return (overprint)."""
 
     def __init__(self, out) -> None:
         self.out = out
         self.first = True
 
-    def write(self, record: str) -> None:
-        record = record.rstrip("\n")
-        control, text = record[:1], record[1:]
-        if control == "1":
-            prefix = "\f" if self.first else "\n\f"
-        elif control == "0":
-            prefix = "\n" if self.first else "\n\n"
-        elif control == "+":
-            prefix = "\r"
-        else:
-            prefix = "" if self.first else "\n"
-        self.first = False
-        self.out.write(prefix + text)
+    def write(self, records: str) -> None:
+        lines = records.split("\n")
+        if records.endswith("\n"):
+            lines.pop()
+        out = []
+        for record in lines:
+            control, text = record[:1], record[1:]
+            if control == "1":
+                prefix = "\f" if self.first else "\n\f"
+            elif control == "0":
+                prefix = "\n" if self.first else "\n\n"
+            elif control == "+":
+                prefix = "\r"
+            else:
+                prefix = "" if self.first else "\n"
+            self.first = False
+            out.append(prefix + text)
+        self.out.write("".join(out))
 
     def close(self) -> None:
         if not self.first:
