@@ -31,6 +31,7 @@ from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 DECK_SOURCE = REPO_ROOT / "decks" / "sielaff.f"
+LIB1410_SOURCE = REPO_ROOT / "decks" / "lib1410.f"
 
 #: Flags that give the 1966 program's implicit REAL/INTEGER typing with REAL*8 reals.
 BASE_FLAGS = ("-std=legacy", "-fdefault-real-8", "-fdefault-double-8")
@@ -81,6 +82,7 @@ def build(
     opt: str = "-O0",
     extra_flags: tuple[str, ...] | list[str] = (),
     source: str | os.PathLike[str] | None = None,
+    lib1410: bool = False,
 ) -> Path:
     """Compile the deck and return the path of the executable.
 
@@ -88,6 +90,10 @@ def build(
     a fixed directory in the system temp dir), keyed on the source text, the flags and
     the compiler version, so repeated calls (and repeated test sessions) compile once.
     Raises ``RuntimeError`` with the compiler output if compilation fails.
+
+    ``lib1410=True`` links ``decks/lib1410.f`` (SQRT of a negative argument
+    returns SQRT(ABS(X)), as the 1410 library did) by declaring ``EXTERNAL
+    SQRT`` at the top of each program unit of a copy of the deck.
     """
     if not gfortran_available():
         raise RuntimeError("gfortran is not installed")
@@ -95,6 +101,8 @@ def build(
     flags = [*BASE_FLAGS, opt, *extra_flags]
     key = hashlib.sha256()
     key.update(src.read_bytes())
+    if lib1410:
+        key.update(b"lib1410" + LIB1410_SOURCE.read_bytes())
     key.update("\0".join(flags).encode())
     key.update(_compiler_id().encode())
     root = Path(tmpdir) if tmpdir is not None else _default_cache_root()
@@ -107,8 +115,13 @@ def build(
     # rename into place so concurrent builders never see a half-written file.
     with tempfile.TemporaryDirectory(dir=outdir) as scratch:
         tmp_exe = Path(scratch) / "sielaff"
+        sources = [str(src.resolve())]
+        if lib1410:
+            deck = Path(scratch) / "sielaff1410.f"
+            deck.write_text(_declare_external_sqrt(src.read_text()))
+            sources = [str(deck), str(LIB1410_SOURCE)]
         proc = subprocess.run(
-            ["gfortran", *flags, "-o", str(tmp_exe), str(src.resolve())],
+            ["gfortran", *flags, "-o", str(tmp_exe), *sources],
             capture_output=True,
             text=True,
             cwd=scratch,
@@ -120,6 +133,22 @@ def build(
             )
         os.replace(tmp_exe, exe)
     return exe
+
+
+def _declare_external_sqrt(text: str) -> str:
+    """The deck with ``EXTERNAL SQRT`` as the first statement of every program unit."""
+    out: list[str] = []
+    declared = False
+    for line in text.splitlines():
+        is_comment = line[:1] in ("C", "c", "*")
+        if not declared and not is_comment and line.strip():
+            # first statement of the main program
+            out.append("      EXTERNAL SQRT")
+            declared = True
+        out.append(line)
+        if re.match(r"^\s{6}\s*(FUNCTION|SUBROUTINE)\b", line):
+            out.append("      EXTERNAL SQRT")
+    return "\n".join(out) + "\n"
 
 
 def run(exe: str | os.PathLike[str], deck_path: str | os.PathLike[str], timeout: float = 60) -> str:
