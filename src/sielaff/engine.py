@@ -27,19 +27,24 @@ Geometry, without ARCCOS
     the sines and cosines of th3 and th4 come from products, not from
     ARCCOS/SIN/COS.  The factored Heron product is accurate near the toggle
     (coupler and rocker in line) where ARCCOS of a cosine near +-1 is not;
-    a product pushed below zero by roundoff (|H^2| < 16 eps S^4) is clamped to
+    a product pushed below zero by roundoff (H^2 > -16 eps (R1+R2+R3+R4)^4) is clamped to
     0, a clearly negative one (the loop cannot close) gives NaN.  With
     ``mu`` the angle at B (the transmission angle, ``GAMMA``)::
 
         sin(th3 - th4) = -H / (2 R3 R4),  cos(th3 - th4) = (R3^2 + R4^2 - ZL^2) / (2 R3 R4)
 
-    ATH3 and ATH4 are reported in (-90, 270) degrees, the range the listing's
+    ATH3 and ATH4 are reported in (-90, 270] degrees, the range the listing's
     PSI -+ BETA and PI - ZLAM -+ BETA fall in for a crank-rocker (R1 > R2).
     Unlike the 1966 program (which takes Case II for any TH2 >= PI, e.g. 370
-    degrees) the engine reduces ATH2 modulo 360 first.
+    degrees) the engine reduces ATH2 modulo 360 first (exactly, with fmod), so
+    ATH2 + 360 k gives bit-identical results.  Positions where the loop cannot
+    close give NaN; at an exact toggle the positions are finite but the rates
+    divide by sin(th3 - th4) = 0 (numpy warns), as the linkage locks there.
 
 Velocities and accelerations
-    The report's equations (3)-(7) and (9)-(14), with TH2DD = 0.
+    The report's (pp. 7-10 and Appendix B; the listing's TH3D .. AG3Y), with
+    TH2DD = 0; the differences of angles come from products of the sines and
+    cosines above, so the only trigonometry is cos and sin of th2.
 
 Forces (D'Alembert and superposition, as the listing)
     Each link is given its mass alone, the other two are weightless
@@ -108,12 +113,13 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.mechanism import FIELD_NAMES, Mechanism
+from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism
 
 __all__ = [
     "G",
     "KINEMATIC_OUTPUTS",
     "OUTPUTS",
+    "RESULTS",
     "STEP_CALLS",
     "STEPS",
     "VECTORS",
@@ -188,7 +194,9 @@ def step(provides: Iterable[str], needs: Iterable[str] = (), zero_when: Iterable
 @step(provides=("c2", "s2"), needs=("ATH2",))
 def _crank_angle(ATH2):
     """cos and sin of the crank angle, reduced modulo 360 degrees first."""
-    th2 = np.radians(np.mod(ATH2, 360.0))
+    if ATH2.size and (ATH2.min() < 0.0 or ATH2.max() >= 360.0):
+        ATH2 = np.mod(ATH2, 360.0)  # exact (fmod), so ATH2 + 360 k gives identical results
+    th2 = np.radians(ATH2)
     return np.cos(th2), np.sin(th2)
 
 
@@ -200,30 +208,46 @@ def _loop_closure(R1, R2, R3, R4, c2, s2):
     """Position of links 3 and 4 on the listing's open branch (see module doc)."""
     dx = R1 - R2 * c2  # d = O4 - A
     dy = s2 * -R2
-    zl2 = dx * dx + dy * dy
+    zl2 = dx * dx
+    zl2 += dy * dy
     zl = np.sqrt(zl2)
     # H^2 = ((ZL+R3)^2 - R4^2) (R4^2 - (ZL-R3)^2), each difference factored.
-    s = zl + R3
-    hh = (s + R4) * (s - R4)
-    s = zl - R3
-    hh *= (R4 - s) * (R4 + s)
-    scale = zl + R3 + R4
-    scale *= scale
-    scale *= scale
-    np.maximum(hh, 0.0, out=hh, where=hh > -16.0 * _EPS * scale)  # roundoff only
+    t = zl + R3
+    hh = t + R4
+    t -= R4
+    hh *= t
+    np.subtract(zl, R3, out=t)
+    u = R4 - t
+    t += R4
+    u *= t
+    hh *= u
+    del t, u, zl
+    # A product pushed below 0 by roundoff is a toggle (H = 0); below -tol, no assembly.
+    tol = R1 + R2 + R3 + R4
+    tol = -16.0 * _EPS * tol**4
+    np.maximum(hh, 0.0, out=hh, where=hh > tol)
     with np.errstate(invalid="ignore"):
-        h = np.sqrt(hh)
-    p = zl2 + (R3 * R3 - R4 * R4)
+        h = np.sqrt(hh, out=hh)
     k = 0.5 / R3
-    inv = k / zl2
-    c3 = (dx * p - dy * h) * inv
-    s3 = (dy * p + dx * h) * inv
-    c4 = (R3 * c3 - dx) / R4
-    s4 = (R3 * s3 - dy) / R4
+    p = zl2 + (R3 * R3 - R4 * R4)  # 2 ZL R3 cos PSI
+    c3 = dx * p
+    c3 -= dy * h
+    s3 = dy * p
+    s3 += dx * h
+    np.divide(k, zl2, out=p)  # 1 / (2 ZL^2 R3)
+    c3 *= p
+    s3 *= p
+    c4 = R3 * c3
+    c4 -= dx
+    c4 /= R4
+    s4 = R3 * s3
+    s4 -= dy
+    s4 /= R4
     k = -0.5 / (R3 * R4)
-    s34 = h * k
-    c34 = (zl2 - (R3 * R3 + R4 * R4)) * k
-    return c3, s3, c4, s4, s34, c34
+    h *= k  # sin(th3 - th4)
+    zl2 -= R3 * R3 + R4 * R4
+    zl2 *= k  # cos(th3 - th4)
+    return c3, s3, c4, s4, h, zl2
 
 
 def _angle_deg(s, c):
@@ -417,7 +441,7 @@ def _inertia_torque4(ZI4, TH4DD):
 @step(provides=("TEX",), needs=("tex_fn", "ATH4"))
 def _external_torque(tex_fn, ATH4):
     """TEX = f(ATH4 in degrees), the report's statement 74 option."""
-    return np.asarray(tex_fn(ATH4), dtype=float)
+    return np.array(tex_fn(ATH4), dtype=float)  # a copy: never alias the caller's arrays
 
 
 @step(
@@ -528,7 +552,9 @@ VECTORS = ("VG2", "VA", "VG3", "VB", "VG4", "AG2", "AA", "AG3", "AB", "AG4",
 
 
 def _magnitude(x, y):
-    return np.hypot(x, y)
+    m = x * x  # np.hypot is ~7x slower; these magnitudes are far from overflow
+    m += y * y
+    return np.sqrt(m, out=m) if isinstance(m, np.ndarray) else np.sqrt(m)
 
 
 def _direction(x, y):
@@ -554,27 +580,53 @@ del _name, _xy
 #: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``).
 INPUTS = ("ATH2",) + FIELD_NAMES
 
-#: Every quantity ``analyze`` can return.
-OUTPUTS = ("ATH2",) + tuple(sorted(n for n in PROVIDER if n[0].isupper()))
-
-#: The outputs that need no force analysis.
-KINEMATIC_OUTPUTS = (
-    "ATH2", "ATH3", "ATH4", "GAMMA", "TH3D", "TH4D", "TH3DD", "TH4DD",
-    "VG2", "DVG2", "VA", "DVA", "VG3", "DVG3", "VB", "DVB", "VG4", "DVG4",
-    "AG2", "DAG2", "AA", "DAA", "AG3", "DAG3", "AB", "DAB", "AG4", "DAG4",
-    "VG2X", "VG2Y", "VAX", "VAY", "VG3X", "VG3Y", "VBX", "VBY", "VG4X", "VG4Y",
-    "AG2X", "AG2Y", "AAX", "AAY", "AG3X", "AG3Y", "ABX", "ABY", "AG4X", "AG4Y",
+#: What ``analyze`` returns by default (``outputs=None``), in the listing's print
+#: order: angles, angular rates, TEX, each vector as magnitude, direction and
+#: components, then TORQ and the shaking moment.
+RESULTS = (
+    ("ATH2", "ATH3", "ATH4", "GAMMA", "TH3D", "TH4D", "TH3DD", "TH4DD", "TEX")
+    + tuple(n for v in VECTORS for n in (v, "D" + v, v + "X", v + "Y"))
+    + ("TORQ", "SHAKM")
 )
 
+#: Every name ``analyze`` accepts: RESULTS plus the listing's intermediate
+#: quantities (inertia loads FG2X.., TI3, TI4, superposition parts FP34X..,
+#: FPP32X.., F3P21X, TP2, TPP2).
+OUTPUTS = RESULTS + tuple(sorted(n for n in PROVIDER if n[0].isupper() and n not in RESULTS))
 
-def _is_zero(value: Any) -> bool:
-    return not callable(value) and not np.any(value)
+
+def _depends_on(name: str, inputs: frozenset[str]) -> bool:
+    """Whether ``name`` (transitively) needs any of ``inputs``."""
+    if name in inputs:
+        return True
+    st = PROVIDER.get(name)
+    return st is not None and any(_depends_on(n, inputs) for n in st.needs)
+
+
+#: The results that need no masses, inertias or TEX: no force analysis.
+KINEMATIC_OUTPUTS = tuple(
+    n for n in RESULTS
+    if n != "TEX" and not _depends_on(n, frozenset(("W2", "W3", "W4", "ZI2", "ZI3", "ZI4",
+                                                     "TEX", "tex_fn")))
+)
+
+#: Inputs whose being zero can make steps unnecessary (see ``zero_when``).
+_ZERO_CANDIDATES = frozenset(n for s in STEPS for n in s.zero_when if n not in PROVIDER) | {"TEX"}
+
+
+def _zero_seeds(ns: dict[str, Any]) -> frozenset[str]:
+    """The seeded inputs that are identically zero (a massless link, no TEX)."""
+    return frozenset(n for n in _ZERO_CANDIDATES if n in ns and not np.any(ns[n]))
 
 
 @lru_cache(maxsize=256)
 def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
-          zero_seeds: frozenset[str]) -> tuple[tuple[Step, bool], ...]:
-    """Steps to run, in dependency order, as (step, skipped) pairs."""
+          zero_seeds: frozenset[str]) -> tuple[tuple[Step, bool, tuple[str, ...]], ...]:
+    """Steps to run, in dependency order, as (step, skipped, names to drop after it).
+
+    Dropping intermediates after their last use lets numpy reuse their memory
+    (fresh multi-megabyte arrays cost page faults, more than the arithmetic).
+    """
 
     zero_memo: dict[str, bool] = {}
 
@@ -609,12 +661,22 @@ def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
 
     for name in wanted:
         visit(name)
-    return tuple(order)
+    last_use: dict[str, int] = {}
+    for i, (st, skipped) in enumerate(order):
+        for name in () if skipped else st.needs:
+            last_use[name] = i
+        for name in st.provides:
+            last_use.setdefault(name, i)
+    drops: list[list[str]] = [[] for _ in order]
+    for name, i in last_use.items():
+        if name not in wanted and name not in seeded:
+            drops[i].append(name)
+    return tuple((st, skipped, tuple(d)) for (st, skipped), d in zip(order, drops, strict=True))
 
 
 def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
     if outputs is None:
-        return OUTPUTS
+        return RESULTS
     if isinstance(outputs, str):
         outputs = (outputs,)
     wanted = tuple(dict.fromkeys(outputs))
@@ -641,19 +703,16 @@ def _seed(mechanism: Mechanism, ath2: Any, tex: Any) -> dict[str, Any]:
 def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
          tex: Any = 0.0) -> list[str]:
     """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
-    from sielaff.mechanism import EXAMPLE
-
     ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex)
-    order = _plan(_check_outputs(outputs), frozenset(ns),
-                  frozenset(n for n, v in ns.items() if _is_zero(v)))
-    return [st.name + ("=0" if skipped else "") for st, skipped in order]
+    order = _plan(_check_outputs(outputs), frozenset(ns), _zero_seeds(ns))
+    return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
 
 
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
             tex: Any = 0.0) -> dict[str, np.ndarray]:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
 
-    ``outputs``: names wanted (see ``OUTPUTS``); None means all of them.  Only
+    ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
     the steps these depend on are run.  ``tex``: the external torque on link 4
     (in-lb, + CCW), a constant, an array broadcasting against ``ath2``, or a
     callable taking ATH4 in degrees.  Returns ``{name: array}`` for the wanted
@@ -666,21 +725,26 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     shapes = [np.shape(v) for n, v in ns.items() if n not in ("tex_fn", "ATH2")]
     final_shape = np.broadcast_shapes(np.shape(ath2), *shapes)
     shape = np.broadcast_shapes(ns["ATH2"].shape, *shapes)  # differs only if final is ()
-    order = _plan(wanted, seeded, frozenset(n for n, v in ns.items() if _is_zero(v)))
+    # Crank angles of the full shape make every derived array full-shaped, so the
+    # steps may update arrays in place with mechanism fields of any shape.
+    ns["ATH2"] = np.broadcast_to(ns["ATH2"], shape)
+    order = _plan(wanted, seeded, _zero_seeds(ns))
 
     module = globals()
-    for st, skipped in order:
+    for st, skipped, drop in order:
         if skipped:
             for name in st.provides:
                 ns[name] = 0.0
-            continue
-        fn = module.get(st.name, st.fn)  # looked up late so tests can patch it
-        STEP_CALLS[st.name] += 1
-        result = fn(*[ns[n] for n in st.needs])
-        if len(st.provides) == 1:
-            result = (result,)
-        for name, value in zip(st.provides, result, strict=True):
-            ns[name] = value
+        else:
+            fn = module.get(st.name, st.fn)  # looked up late so tests can patch it
+            STEP_CALLS[st.name] += 1
+            result = fn(*[ns[n] for n in st.needs])
+            if len(st.provides) == 1:
+                result = (result,)
+            for name, value in zip(st.provides, result, strict=True):
+                ns[name] = value
+        for name in drop:
+            del ns[name]
 
     out: dict[str, np.ndarray] = {}
     seen: set[int] = set()

@@ -6,7 +6,7 @@ Units are the report's (page 17, "THE PROGRAM AND ITS USE"):
 name   meaning                                          unit
 ====== ================================================ ==============
 W2-W4  weights of links 2, 3, 4                         lb
-ZI2-4  mass moments of inertia about O2, G3 (A), O4     in-lb-sec^2
+ZI2-4  mass moments of inertia of links 2, 3, 4 (*)   in-lb-sec^2
 R1-R4  lengths of links 1 (frame), 2 (crank), 3, 4      in
 ADEL2  angle of the centre of mass line, measured        degrees
 -ADEL4 + or - from R2, R3 or R4
@@ -16,6 +16,12 @@ TH2D   angular velocity of link 2 (constant)            rad/sec
 
 Link 2 turns about O2 (origin), link 4 about O4 = (R1, 0); A is the pin
 joining 2 and 3, B the pin joining 3 and 4.  RG3 is measured from A.
+
+(*) The report's card description says "about O2, A, O4", but the program's
+equations apply the inertia force -m*a_G at G *and* the torque -ZI*alpha,
+which is D'Alembert's principle with ZI about the link's own centre of
+mass.  The emulator runs the program as written and the engine follows the
+same model; ZI2 never matters (link 2 turns at constant speed).
 
 Each field is a float for the emulator; for the modern engine any field
 may be a numpy array that broadcasts against the crank angles.
