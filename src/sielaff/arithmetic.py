@@ -15,7 +15,7 @@ The port (``sielaff.program``) is written once, in plain operators, and an
 * ``on_error`` -- called with one line of text where the 1410 library would
   print an error message and go on (SQRT of a negative argument).
 
-Models: ``float64`` (default), ``float32``, ``ibm1410[:K]`` (see
+Models: ``float64`` (default), ``float32``, ``ibm1410[:K][,VARIANT]`` (see
 ``sielaff.ibm1410``).  ``get_arithmetic(name)`` builds one by name.
 """
 
@@ -23,8 +23,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
-import numpy as np
+#: numpy, imported by the first ``Float32()``: ``sielaff run`` on float64 starts
+#: without it (a tenth of a second less start-up for every run).
+np: Any = None
 
 
 class ArithmeticError1410(Exception):
@@ -64,6 +67,9 @@ class Float32:
     name = "float32"
 
     def __init__(self, on_error: Callable[[str], None] = _ignore) -> None:
+        global np
+        import numpy as np
+
         self.on_error = on_error
         self.ABS = abs
 
@@ -86,23 +92,35 @@ class Float32:
         return np.sqrt(np.float32(x))
 
 
-def get_arithmetic(name: str, on_error: Callable[[str], None] = _ignore):
-    """Build an arithmetic by name: ``float64``, ``float32``, ``ibm1410`` or ``ibm1410:K``."""
+def get_arithmetic(name, on_error: Callable[[str], None] = _ignore):
+    """Build an arithmetic by name: ``float64``, ``float32``, ``ibm1410[:K][,VARIANT]``.
+
+    ``VARIANT`` picks the 1410 library algorithms (``sielaff.ibm1410``), e.g.
+    ``ibm1410:8,taylor`` or ``ibm1410,trig=octant``.  An arithmetic object (anything
+    with ``num`` and ``SIN``) is returned as it is.
+    """
+    if not isinstance(name, str):
+        if hasattr(name, "num") and hasattr(name, "SIN"):
+            return name
+        raise TypeError(f"not an arithmetic: {name!r}")
     if name == "float64":
         return Float64(on_error)
     if name == "float32":
         return Float32(on_error)
-    if name == "ibm1410" or name.startswith("ibm1410:"):
+    if name == "ibm1410" or name.startswith(("ibm1410:", "ibm1410,")):
         from sielaff.ibm1410 import IBM1410
 
+        head, _, variant = name.partition(",")
         digits = 8
-        if ":" in name:
+        if ":" in head:
             try:
-                digits = int(name.split(":", 1)[1])
+                digits = int(head.split(":", 1)[1])
             except ValueError:
                 raise ValueError(f"bad arithmetic {name!r}: K must be a whole number") from None
+        if variant:
+            return IBM1410(digits, on_error, variant=variant)
         return IBM1410(digits, on_error)
-    raise ValueError(f"unknown arithmetic {name!r} (float64, float32, ibm1410[:K])")
+    raise ValueError(f"unknown arithmetic {name!r} (float64, float32, ibm1410[:K][,VARIANT])")
 
 
 MODELS = ("float64", "float32", "ibm1410")

@@ -1,9 +1,15 @@
 """Command line: ``sielaff run|diff|...``.
 
 Every failure is one line on stderr and a non-zero exit status: 2 for a deck
-or arithmetic the program cannot use, 3 for a mechanism that is not a
-crank-rocker, 1 for ``diff`` when the listings differ.  ``--debug`` shows
-the traceback instead.
+or arithmetic the program cannot use (or an output file that cannot be
+written), 3 for a mechanism that is not a crank-rocker, 1 for ``diff`` when
+the listings differ, 130 for Ctrl-C.  ``--debug`` shows the traceback instead.
+
+Besides that one error line, stderr carries only *diagnostics*: lines that
+begin ``sielaff: warning: `` (the deck's warnings, a ``--max-sheets`` stop)
+or ``sielaff: 1966 quirk: `` (what the 1966 program does oddly for this
+deck).  A run that exits 0 prints no error line.  A closed pipe
+(``sielaff run deck | head``) ends the run quietly with status 0.
 """
 
 from __future__ import annotations
@@ -35,6 +41,17 @@ def endless_range(deck: Deck) -> str | None:
     return None
 
 
+def sheet_count(text: str) -> int:
+    """argparse type for ``--max-sheets``: a whole number >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of sheets (0, 1, 2, ...)")
+    return value
+
+
 def _load(path: str) -> Deck:
     if not os.path.exists(path):
         raise CommandError(f"{path}: no such deck")
@@ -51,30 +68,45 @@ def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.output import atomic_output
     from sielaff.printer import AsaRenderer
     from sielaff.program import NotCrankRocker, ProgramError, SheetLimit
+    from sielaff.progress import run_progress
 
     deck = _load(args.deck)
     problem = endless_range(deck)
     if problem:
         raise CommandError(problem)
-    notice = notice_printer(sys.stderr)
+    bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
+    notice = bar.wrap(notice_printer(sys.stderr))
     status = 0
     with atomic_output(args.output) as out:
         stream = AsaRenderer(out) if args.render else out
         try:
-            run(deck, stream, arithmetic=args.arith, notice=notice,
-                kinematics_only=args.kinematics_only, max_sheets=args.max_sheets)
+            with bar:
+                run(deck, stream, arithmetic=args.arith, notice=notice,
+                    kinematics_only=args.kinematics_only, max_sheets=args.max_sheets,
+                    progress=bar)
         except NotCrankRocker:
             failure = crank_rocker_failure(deck.mechanism)
             print(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
                   file=sys.stderr)
             status = EXIT_NOT_CRANK_ROCKER
         except SheetLimit as limit:
-            print(f"sielaff: stopped after --max-sheets {limit.args[0]} sheets", file=sys.stderr)
+            print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "
+                  "the deck asks for more", file=sys.stderr)
         except ProgramError as exc:
             raise CommandError(f"{deck.path}: {exc}") from exc
         if args.render:
             stream.close()
     return status
+
+
+# -- bench ------------------------------------------------------------------
+def cmd_bench(args: argparse.Namespace) -> int:
+    from sielaff.bench import study, write_report
+
+    res = study(args.quick, progress=lambda s: print(f"sielaff bench: {s}", file=sys.stderr))
+    write_report(res, args.output, command="sielaff bench" + (" --quick" if args.quick else ""))
+    print(f"sielaff bench: wrote {args.output} and its figure", file=sys.stderr)
+    return 0
 
 
 # -- diff -------------------------------------------------------------------
@@ -97,12 +129,44 @@ def cmd_diff(args: argparse.Namespace) -> int:
     return 1 if lines else 0
 
 
+# -- table ------------------------------------------------------------------
+def cmd_table(args: argparse.Namespace) -> int:
+    from sielaff.table import cmd_table as table  # numpy only when asked for
+
+    return table(args)
+
+
+# -- check, plot, punch ----------------------------------------------------
+def cmd_check(args: argparse.Namespace) -> int:
+    from sielaff.check import cmd_check as check  # numpy only when asked for
+
+    return check(args)
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from sielaff.plots import cmd_plot as plot  # matplotlib only when asked for
+
+    return plot(args)
+
+
+def cmd_punch(args: argparse.Namespace) -> int:
+    from sielaff.punch import cmd_punch as punch
+
+    return punch(args)
+
+
 # -- parser -----------------------------------------------------------------
 EXAMPLES = {
     "run": "example:\n  sielaff run decks/example.dat -o example.asa\n"
            "  sielaff run decks/example.dat --render | less",
     "diff": "example:\n  sielaff run decks/example.dat -o example.asa\n"
             "  sielaff diff example.asa golden/figure10.asa",
+    "table": "example:\n  sielaff table decks/example.dat -o example.csv\n"
+             "  sielaff table decks/example.dat --format json --only kinematics | head -3",
+    "check": "example:\n  sielaff check decks/example.dat",
+    "plot": "example:\n  sielaff plot decks/example.dat -o plots\n"
+            "  sielaff plot decks/example.dat -o plots --only kinematics",
+    "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
 }
 
 
@@ -134,11 +198,45 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number model: float64 (default), float32, ibm1410[:K]")
     p.add_argument("--kinematics-only", action="store_true",
                    help="drop statements 133-202 and their WRITEs, as the report describes")
-    p.add_argument("--max-sheets", type=int, metavar="N", help="stop cleanly after N sheets")
+    p.add_argument("--max-sheets", type=sheet_count, metavar="N",
+                   help="stop cleanly after N sheets (a warning says so)")
+
+    p = add("table", cmd_table, "the modern engine's results for a deck, one row per "
+            "position from THZERO to THMAX (CSV or JSON)")
+    p.add_argument("deck")
+    p.add_argument("--format", choices=("csv", "json"), default="csv",
+                   help="csv (default; a header row) or json ({columns, rows})")
+    p.add_argument("--only", choices=("kinematics",),
+                   help="kinematics: angles, velocities and accelerations; the force "
+                        "analysis is not run")
+    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
 
     p = add("diff", cmd_diff, "compare a listing with a golden printout, field by field")
     p.add_argument("listing")
     p.add_argument("golden")
+
+    p = add("bench", cmd_bench, "accuracy against cost of the number models, ARCCOS and step "
+                                "size: writes docs/accuracy.md and its figure")
+    p.add_argument("--quick", action="store_true",
+                   help="fewer ARCCOS points and port steps (a few seconds)")
+    p.add_argument("-o", "--output", default="docs/accuracy.md",
+                   help="the markdown report (default docs/accuracy.md; the PNG goes beside it)")
+    p = add("check", cmd_check, "report on a deck: values, Grashof and crank-rocker margins, "
+            "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
+    p.add_argument("deck")
+
+    p = add("plot", cmd_plot, "the report's figures (12-16) as PNG files, from the modern engine")
+    p.add_argument("deck")
+    p.add_argument("-o", "--output", required=True, metavar="DIR",
+                   help="directory for the PNG files (created if needed)")
+    p.add_argument("--only", choices=("kinematics",),
+                   help="kinematics: velocity and acceleration curves instead of the forces")
+
+    p = add("punch", cmd_punch, "punch an 80-column deck from a TOML spec with names and units "
+            "(see decks/example.toml)")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="DECK",
+                   help="write to DECK (atomically) instead of stdout")
     return parser
 
 
@@ -164,6 +262,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except OSError as exc:  # an output file that cannot be written, a full disk
+        if debug:
+            raise
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"sielaff: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_DECK
 
 
 def entry() -> None:

@@ -83,9 +83,12 @@ class _SheetWriter:
     def __init__(self, emit: Callable[[str], None], kinematics_only: bool) -> None:
         self.emit = emit
         self.fields = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
-        self.group = 0  # which value-carrying WRITE of the sheet comes next
         self.parts: list[str] = []
         self.texts: dict[tuple[int, int], Callable[..., str]] = {}
+        self.write = self._make_write()
+
+    def __call__(self, fmt: int, *values) -> None:
+        self.write(fmt, *values)
 
     def _text_function(self, fmt: int, n: int) -> Callable[..., str]:
         if n and fmt not in VALUE_FORMATS:
@@ -93,29 +96,38 @@ class _SheetWriter:
         function = self.texts[fmt, n] = COMPILED[fmt].text_function(n, strict=True)
         return function
 
-    def __call__(self, fmt: int, *values) -> None:
-        text = self.texts.get((fmt, len(values)))
-        if text is None:
-            text = self._text_function(fmt, len(values))
-        if values:
-            group = self.group
-            self.group = group + 1
+    def _unprintable(self, group: int, values: tuple) -> ProgramError:
+        self.parts.clear()  # the sheet is not written
+        for name, value in zip(self.fields[group], values):
             try:
-                self.parts.append(text(*values))
+                _strict_value(value)
             except Unprintable:
-                self.parts.clear()
-                for name, value in zip(self.fields[group], values):
-                    try:
-                        _strict_value(value)
-                    except Unprintable:
-                        raise ProgramError(_unprintable(name, value)) from None
-                raise
-            return
-        self.parts.append(text())
-        if fmt == 18:
-            self.flush()
-        elif fmt == 7:
-            self.group = 0
+                return ProgramError(_unprintable(name, value))
+        return ProgramError(f"unprintable value in {values}")
+
+    def _make_write(self) -> Callable[..., None]:
+        # A closure (not a method): the port calls it 25 times a sheet.
+        get, append = self.texts.get, self.parts.append
+        build, flush = self._text_function, self.flush
+        group = 0  # which value-carrying WRITE of the sheet this is
+
+        def write(fmt: int, *values) -> None:
+            nonlocal group
+            text = get((fmt, len(values))) or build(fmt, len(values))
+            if values:
+                try:
+                    append(text(*values))
+                except Unprintable:
+                    raise self._unprintable(group, values) from None
+                group += 1
+                return
+            append(text())
+            if fmt == 18:
+                flush()
+            elif fmt == 7:
+                group = 0
+
+        return write
 
     def flush(self) -> None:
         if self.parts:
@@ -123,21 +135,37 @@ class _SheetWriter:
             self.parts.clear()
 
 
+def _counting(emit: Callable[[str], None], progress: Callable[[int], None]):
+    """``emit`` that also reports the number of sheets written to ``progress``."""
+    count = 0
+
+    def counted(text: str) -> None:
+        nonlocal count
+        emit(text)
+        count += 1
+        progress(count)
+
+    return counted
+
+
 def run(deck, out: TextIO, arithmetic: str = "float64",
         notice: Callable[[str, str], None] | None = None,
-        kinematics_only: bool = False, max_sheets: int | None = None) -> int:
+        kinematics_only: bool = False, max_sheets: int | None = None,
+        progress: Callable[[int], None] | None = None) -> int:
     """Print the listing of ``deck`` on ``out`` (one ASA record per line).
 
     Returns the number of sheets.  Raises ``program.NotCrankRocker`` (after
     the 1966 message is printed), ``program.SheetLimit`` and ``ProgramError``.
     The listing is written a sheet at a time (one ``out.write`` per sheet),
     so memory stays constant; a sheet that fails is not written.
+    ``progress(n)``, if given, is called after each sheet with the sheets so far.
     """
     notice = notice or (lambda kind, text: None)
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
-    writer = _SheetWriter(out.write, kinematics_only)
+    emit = out.write if progress is None else _counting(out.write, progress)
+    writer = _SheetWriter(emit, kinematics_only)
     try:
-        sheets = Program(ar, notice).MAIN(deck, writer, kinematics_only, max_sheets)
+        sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets)
     except NotCrankRocker:
         writer.flush()  # FORMAT 20's message
         raise
@@ -145,7 +173,8 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
         raise ProgramError(f"division by zero in {_failing_statement(exc)}"
                            f"{_zero_divisor(deck, exc)}") from exc
     except (ArithmeticError1410, OverflowError) as exc:
-        raise ProgramError(f"{exc} in {_failing_statement(exc)}") from exc
+        raise ProgramError(f"{exc} in {_failing_statement(exc)}"
+                           f"{_zero_divisor(deck, exc)}") from exc
     writer.flush()
     return sheets
 
@@ -181,6 +210,6 @@ def notice_printer(stream: TextIO = sys.stderr, limit: int = 5) -> Callable[[str
         if n <= limit:
             stream.write(f"sielaff: 1966 quirk: {text}\n")
         if n == limit:
-            stream.write(f"sielaff: (further '{kind}' notices suppressed)\n")
+            stream.write(f"sielaff: 1966 quirk: (further '{kind}' notices suppressed)\n")
 
     return notice

@@ -24,6 +24,8 @@ of a decimal 1410 number.
 
 from __future__ import annotations
 
+import functools
+import math
 import re
 from collections.abc import Callable, Iterable
 
@@ -93,11 +95,19 @@ _EDITORS: dict[str, Callable] = {"F": edit_f, "E": edit_e}
 # -- the fast path ---------------------------------------------------------
 # ``edit_e`` and ``edit_f`` above are the reference.  The emulator prints
 # millions of fields, so ``fast_editor`` builds editors that give exactly the
-# same text (tests/test_robust.py checks this on arbitrary floats) but take a
-# Python float's digits straight from ``repr`` (the shortest round-trip
-# decimal: "545.6", "-0.05", "1.25e-07") with a few slices, no Decimal and no
-# regular expression.  Any other number type (numpy float32, a 1410 decimal)
-# goes through the reference.
+# same text (tests/test_robust.py checks this on arbitrary and adversarial
+# floats) in three tiers:
+#
+# 1. arithmetic: scale a float to d digits and truncate with int().  This is
+#    the exact value's truncation; it is also repr's unless a digit boundary
+#    lies within a few units in the last place, so values within 1E-7 (E) or
+#    1E-6 (F) of a boundary after scaling (0.7 -> 7000.000000000001, 40.0 ->
+#    400.0) go on to tier 2.  This tier does not call repr (the costly part).
+# 2. repr: a Python float's digits straight from ``repr`` (the shortest
+#    round-trip decimal: "545.6", "-0.05", "1.25e-07"), a few slices, no
+#    Decimal and no regular expression.
+# 3. the reference, for values tier 2 does not take (inf, nan, exponents
+#    out of range) and for other number types (numpy float32, 1410 decimals).
 
 class Unprintable(ValueError):
     """A value the 1410 could not have held, met by a *strict* editor.
@@ -127,6 +137,27 @@ def _strict_value(value):
     return value
 
 
+def _memo(edit: Callable[[float], str], size: int = 4096) -> Callable[[float], str]:
+    """``edit`` remembering its last results (finite nonzero floats only: -0.0 == 0.0).
+
+    Values near a digit boundary often recur: a velocity that is 200 in
+    exact arithmetic comes out of SQRT as 200.0 or 199.99999999999997 on
+    every sheet.
+    """
+    memo: dict[float, str] = {}
+
+    def edit_memo(value: float) -> str:
+        text = memo.get(value)
+        if text is None:
+            text = edit(value)
+            if len(memo) >= size:
+                memo.clear()
+            memo[value] = text
+        return text
+    return edit_memo
+
+
+@functools.cache  # one editor (and one memo) per descriptor, however many fields use it
 def fast_editor(kind: str, w: int, d: int, strict: bool = False) -> Callable[[object], str]:
     """An editor for one ``Ew.d`` or ``Fw.d`` field: the text of ``edit_e``/``edit_f``.
 
@@ -153,7 +184,7 @@ def fast_editor(kind: str, w: int, d: int, strict: bool = False) -> Callable[[ob
             if type(value) is not float:
                 return slow(value)
             s = float_repr(value)
-            if "e" in s or "n" in s:  # exponent form (|x| < 1E-4 or >= 1E16), inf, nan
+            if "e" in s or "n" in s or value == 0.0:  # |x| < 1E-4 or >= 1E16, inf, nan, -0.0
                 return slow(value)
             if s[0] == "-":
                 whole, _, frac = s[1:].partition(".")
@@ -162,7 +193,35 @@ def fast_editor(kind: str, w: int, d: int, strict: bool = False) -> Callable[[ob
                 whole, _, frac = s.partition(".")
                 text = whole.lstrip("0") + "." + (frac + pad)[:d]
             return text.rjust(w) if len(text) <= w else stars
-        return edit_f_fast
+
+        if not 1 <= d <= 7 or w < 10:
+            return edit_f_fast
+        # |x| < 10**(8-d): at most 10 characters ("-9999999.9"), no stars
+        scale, bound = 10.0 ** d, 10.0 ** (8 - d)
+
+        def edit_f_arith(value) -> str:
+            # t = the value's first d decimals, truncated; exact unless the
+            # scaled value lies within 1E-6 of an integer (a round value, or
+            # one where repr's digits and the binary value may straddle it).
+            if type(value) is float:
+                if 0.0 < value < bound:
+                    scaled = value * scale
+                    t = int(scaled)
+                    if 1e-6 < scaled - t < 0.999999:
+                        digits = str(t).rjust(d, "0")  # t = 5 prints ".5" (d = 1)
+                        return (digits[:-d] + "." + digits[-d:]).rjust(w)
+                    return near_boundary(value)
+                if -bound < value < 0.0:
+                    scaled = value * -scale
+                    t = int(scaled)
+                    if 1e-6 < scaled - t < 0.999999:
+                        digits = str(t).rjust(d, "0")
+                        return ("-" + digits[:-d] + "." + digits[-d:]).rjust(w)
+                    return near_boundary(value)
+            return edit_f_fast(value)
+
+        near_boundary = _memo(edit_f_fast)
+        return edit_f_arith
 
     zero = "." + pad + "E-99"
     zero = zero.rjust(w) if len(zero) <= w else stars
@@ -195,7 +254,34 @@ def fast_editor(kind: str, w: int, d: int, strict: bool = False) -> Callable[[ob
             digits = s[0] + s[2:cut]
         text = sign + "." + (digits + pad)[:d] + exponent_text[exponent + 99]
         return text.rjust(w) if len(text) <= w else stars
-    return edit_e_fast
+
+    if not 1 <= d <= 7 or d + 6 > w:  # d <= 7: the 1E-7 margin stays many units in the last place
+        return edit_e_fast
+    positive, negative = ".".rjust(w - d - 4), "-.".rjust(w - d - 4)
+    low, high = 10 ** (d - 1), 10 ** d - 1
+    # scale[k] brings a value with exponent k - 99 (0.ddd x 10**(k-99)) to d digits
+    scales = tuple(10.0 ** (d - (k - 99)) for k in range(199))
+    log10, floor = math.log10, math.floor
+
+    def edit_e_arith(value) -> str:
+        # The first d digits by arithmetic: exact unless the scaled value
+        # lies within 1E-7 of an integer (then repr decides, as above).  A
+        # wrong exponent from log10 puts t out of [low, high]: repr decides.
+        if type(value) is float:
+            a = value if value >= 0.0 else -value
+            if 1e-99 <= a < 1e98:
+                k = floor(log10(a)) + 100  # exponent + 99
+                scaled = a * scales[k]
+                t = int(scaled)
+                if low <= t <= high and 1e-7 < scaled - t < 0.9999999:
+                    return (positive if value > 0.0 else negative) + str(t) + exponent_text[k]
+                return near_boundary(value)
+            if a == 0.0:
+                return zero
+        return edit_e_fast(value)
+
+    near_boundary = _memo(edit_e_fast)
+    return edit_e_arith
 
 
 def compile_format(text: str) -> list[tuple]:
