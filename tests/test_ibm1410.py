@@ -351,17 +351,24 @@ def test_get_arithmetic_builds_the_model():
 
 
 def test_variants_select_algorithms():
-    assert IBM1410(8).variant == "taylor"
+    assert IBM1410(8).variant == "sine"  # the default: 82 of 82 figure fields (test_accuracy)
     for name in VARIANTS:
         assert IBM1410(8, variant=name).variant == name
     mixed = IBM1410(8, variant="taylor,sqrt=fixed")
-    assert mixed.choice == {"trig": "octant", "atan": "pi6", "sqrt": "fixed"}
-    assert IBM1410(8, variant="sqrt=one").choice["trig"] == "octant"
+    assert mixed.choice == {"trig": "octant", "atan": "pi6", "sqrt": "fixed", "reduce": "model",
+                            "cos": "own", "final": "trunc"}
+    assert IBM1410(8, variant="sqrt=one").choice["trig"] == "sine"
+    assert IBM1410(8, variant="sine,reduce=model").variant == (
+        "trig=sine,atan=pi3,sqrt=exp,reduce=model,cos=own,final=trunc")
     # the variants really differ in the last digits somewhere
     xs = [A8.num(i / 37) for i in range(1, 200)]
-    outs = {name: [(IBM1410(8, variant=name).SIN(x), IBM1410(8, variant=name).ATAN(x))
-                   for x in xs] for name in VARIANTS}
-    assert outs["taylor"] != outs["quadrant"] != outs["hastings"] != outs["taylor"]
+    outs = {name: [(IBM1410(8, variant=name).SIN(x), IBM1410(8, variant=name).COS(x),
+                    IBM1410(8, variant=name).ATAN(x)) for x in xs] for name in VARIANTS}
+    names = list(VARIANTS)
+    assert all(outs[a] != outs[b] for a in names for b in names if a < b)
+    for part in ("reduce=model", "cos=shift", "final=round2", "atan=pi6"):
+        other = IBM1410(8, variant=f"sine,{part}")
+        assert [(other.SIN(x), other.COS(x), other.ATAN(x)) for x in xs] != outs["sine"], part
 
 
 # ----- the library ---------------------------------------------------------------------
@@ -389,7 +396,8 @@ def atan_bound(A) -> float:
     return max(b, 2e-8) if A.choice["atan"] == "hastings" else b
 
 
-LIBS = [IBM1410(K, variant=v) for K in (8, 16) for v in VARIANTS]
+LIBS = ([IBM1410(K, variant=v) for K in (8, 16) for v in VARIANTS]
+        + [IBM1410(8, variant=v) for v in ("taylor,cos=shift", "sine,final=round2")])
 
 
 @pytest.mark.parametrize("A", LIBS, ids=lambda A: f"{A.digits}-{A.variant}")
@@ -468,7 +476,7 @@ def test_library_accepts_python_numbers():
 
 
 def test_loops_are_bounded(monkeypatch):
-    A = IBM1410(8)
+    A = IBM1410(8, variant="taylor")  # "sine" has a fixed term count: no loop to bound
     A._sin_div = A._sin_div[:2]  # too few terms to converge: the bound must trip
     with pytest.raises(ArithmeticError1410, match="SIN series"):
         A.SIN(A.num(0.7))
@@ -499,6 +507,19 @@ class OperatorLibrary:
             self.s3 = n(mod._SQRT3)
             self.t15 = n(str(2 - Decimal(mod._SQRT3)))
             self.t225 = n(str(Decimal(2).sqrt() - 1))
+            self.tp = n(str(pi / 3))
+            self.t75 = n(str(2 + Decimal(mod._SQRT3)))
+        ch = A.choice
+        # reduce=exact: the library's reduction subtractions are exact, then truncated
+        self.rsub = ((lambda a, b: a - b) if ch["reduce"] == "model"
+                     else (lambda a, b: n(WIDE.subtract(a.to_decimal(), b.to_decimal()))))
+
+    def sine(self, r):
+        """Horner form of the sine series, N factors."""
+        x2, p = r * r, self.n(1)
+        for k in range(self.A._sine_terms, 0, -1):
+            p = 1.0 - (x2 / self.n((2 * k) * (2 * k + 1))) * p
+        return r * p
 
     def sin_series(self, r):
         s = t = r
@@ -532,20 +553,28 @@ class OperatorLibrary:
             if want_sin:
                 return self.horner(mod._HASTINGS_SIN, r * r) * r
             return self.horner(mod._HASTINGS_COS, r * r)
+        if how == "sine":
+            return self.sine(r if want_sin else self.rsub(self.hp, r))
         if how == "octant" and r > self.qp:
-            r, want_sin = self.hp - r, not want_sin
+            r, want_sin = self.rsub(self.hp, r), not want_sin
         return self.sin_series(r) if want_sin else self.cos_series(r)
 
     def trig(self, x, want_sin):
+        if self.A.choice["final"] == "round2":
+            inner = OperatorLibrary(self.A._inner)
+            v = inner.trig(self.A._inner.num(x.to_decimal()), want_sin).to_decimal()
+            return self.n(decimal.Context(prec=self.A.digits, rounding="ROUND_HALF_UP").plus(v))
+        if not want_sin and self.A.choice["cos"] == "shift":
+            return self.trig(abs(x) + self.hp, True)
         ax = abs(x)
         q = 0
         if ax >= self.hp:
             q = int(ax / self.hp)
-            r = ax - self.n(q) * self.hp
+            r = self.rsub(ax, self.n(q) * self.hp)
             if r < 0.0:
-                q, r = q - 1, r + self.hp
+                q, r = q - 1, self.rsub(r, -self.hp)
             elif r >= self.hp:
-                q, r = q + 1, r - self.hp
+                q, r = q + 1, self.rsub(r, self.hp)
             q &= 3
         else:
             r = ax
@@ -566,14 +595,20 @@ class OperatorLibrary:
         raise AssertionError
 
     def atan(self, x):
+        if self.A.choice["final"] == "round2":
+            v = OperatorLibrary(self.A._inner).atan(self.A._inner.num(x.to_decimal()))
+            return self.n(decimal.Context(prec=self.A.digits,
+                                          rounding="ROUND_HALF_UP").plus(v.to_decimal()))
         a = abs(x)
-        inv = a > 1.0
+        how = self.A.choice["atan"]
+        inv = a > 1.0 and not (how == "pi3" and a <= self.t75)
         if inv:
             a = 1.0 / a
-        how = self.A.choice["atan"]
-        if how == "hastings":
+        if how == "pi3" and a > 1.0:
+            v = self.tp + self.atan_series((a - self.s3) / (a * self.s3 + 1.0))
+        elif how == "hastings":
             v = self.horner(mod._HASTINGS_ATAN, a * a) * a
-        elif how == "pi6" and a > self.t15:
+        elif how in ("pi6", "pi3") and a > self.t15:
             v = self.sp + self.atan_series((a * self.s3 - 1.0) / (a + self.s3))
         elif how == "pi4" and a > self.t225:
             v = self.qp + self.atan_series((a - 1.0) / (a + 1.0))
@@ -584,6 +619,10 @@ class OperatorLibrary:
         return -v if x < 0.0 else v
 
     def sqrt(self, x):
+        if self.A.choice["final"] == "round2":
+            v = OperatorLibrary(self.A._inner).sqrt(self.A._inner.num(x.to_decimal()))
+            return self.n(decimal.Context(prec=self.A.digits,
+                                          rounding="ROUND_HALF_UP").plus(v.to_decimal()))
         x = abs(x)
         if x == 0.0:
             return x
@@ -608,7 +647,10 @@ class OperatorLibrary:
             y = y1
 
 
-@pytest.mark.parametrize("A", [IBM1410(K, variant=v) for K in (8, 12) for v in VARIANTS],
+@pytest.mark.parametrize("A", [IBM1410(K, variant=v) for K in (8, 12) for v in VARIANTS]
+                         + [IBM1410(8, variant=v) for v in ("taylor,cos=shift",
+                                                            "taylor,reduce=exact",
+                                                            "sine,final=round2")],
                          ids=lambda A: f"{A.digits}-{A.variant}")
 @settings(max_examples=40, deadline=None)
 @given(x=st.one_of(st.floats(min_value=-50.0, max_value=50.0),

@@ -43,24 +43,33 @@ truncated to K digits, as a library would store them.  The algorithm is chosen b
 ``variant``: a preset name, optionally followed by ``,part=choice`` overrides,
 e.g. ``"taylor"``, ``"hastings"``, ``"taylor,sqrt=fixed"``.
 
-Presets (``VARIANTS``):
+Presets (``VARIANTS``; the part names and choices are explained below):
 
-============  ===============  ============  ==========
-preset        trig             atan          sqrt
-============  ===============  ============  ==========
-``taylor``    ``octant``       ``pi6``       ``exp``
-``quadrant``  ``quadrant``     ``pi4``       ``one``
-``hastings``  ``hastings``     ``hastings``  ``fixed``
-============  ===============  ============  ==========
+============  ===========  ========  ========  ======  =====  =======  ========================
+preset        trig         reduce    atan      sqrt    cos    final    Figures 10/11 fields
+============  ===========  ========  ========  ======  =====  =======  ========================
+``sine``      ``sine``     exact     ``pi3``   exp     own    trunc    82 of 82 (the default)
+``taylor``    ``octant``   model     ``pi6``   exp     own    trunc    79 of 82
+``quadrant``  ``quadrant`` model     ``pi4``   one     own    trunc    78 of 82
+``hastings``  ``hastings`` model     hastings  fixed   own    trunc    77 of 82
+============  ===========  ========  ========  ======  =====  =======  ========================
 
-The default is ``taylor`` (series to convergence; my best guess for a library
-written for a decimal machine of variable precision).
+The default is ``sine``: the only combination tried that reproduces every printed
+field of Figures 10 and 11 (``docs/accuracy.md`` lists every variant tried, with its
+count, and why the figures pin these choices down).  ``taylor`` was the first guess.
 
 trig (SIN, COS):
   all choices reduce ``|x|`` by ``q = INT(|x| / (pi/2))``, ``r = |x| - q*(pi/2)``
-  (model operations, K-digit pi/2), use the quadrant ``q mod 4`` and the parity of
-  SIN/COS for the sign, then
+  (K-digit pi/2), use the quadrant ``q mod 4`` and the parity of SIN/COS for the
+  sign, then
 
+  * ``sine``: one core routine, the sine series in Horner form with a fixed number
+    of factors N, ``p = 1; p = 1 - (r*r / ((2k)(2k+1))) * p`` for k = N..1, result
+    ``r * p``, on ``0 <= r <= pi/2``.  Cosines (COS, and SIN in the odd quadrants)
+    are ``sine(pi/2 - r)``.  N is fixed per K so that the first omitted term
+    ``(pi/2)**(2N+3)/(2N+3)!`` is below ``10**-(K+1)`` (N = 6 for K = 8, through
+    x**13).  Truncation makes the Horner form run a few units high (1 - t with t
+    truncated is rounded up): SIN can return .10000001E+01 near pi/2.
   * ``octant``: if ``r > pi/4`` use ``pi/2 - r`` and the co-function, so
     ``0 <= r <= pi/4``; Taylor series accumulated term by term
     (``t = t * r**2 / ((2k)(2k+1))``) until adding the term no longer changes
@@ -74,8 +83,25 @@ trig (SIN, COS):
   ``|x| >= 10000`` radians (C28-0328-3 p. 23 limit): ``on_error`` is called and
   the result is 0.
 
+reduce (the subtractions of the SIN/COS argument reduction, ``|x| - q*(pi/2)``, its
+fold-back, and ``pi/2 - r``):
+
+  * ``model``: ordinary K-digit subtractions (the subtrahend's low digits are dropped
+    on alignment).
+  * ``exact``: the difference is formed exactly and then truncated to K digits, as a
+    library routine doing its reduction in a longer fixed-point field would; the
+    constant pi/2 is still the K-digit one.  (1.5707963 - .87266463 is .69813167,
+    where the model subtraction gives .69813170.)
+
+cos: ``own`` as above; ``shift``: ``COS(X) = SIN(ABS(X) + pi/2)`` (model add), as
+  many libraries did.
+
+final: ``trunc``: the routines work in K digits, the result is what they produce;
+  ``round2``: the routine is run with K+2 digits (same algorithms) and its result is
+  rounded (half up) to K digits, as a library routine with two guard digits would.
+
 atan (ATAN):
-  ``x < 0`` by symmetry; ``x > 1``: ``pi/2 - atan(1/x)``; then
+  ``x < 0`` by symmetry; ``x > 1``: ``pi/2 - atan(1/x)`` (except ``pi3``); then
 
   * ``pi6``: if ``x > tan(pi/12)``: ``pi/6 + atan((x*sqrt3 - 1) / (x + sqrt3))``,
     so the series argument is at most ``tan 15 deg = 0.268``; Taylor series
@@ -84,6 +110,10 @@ atan (ATAN):
     at most 0.414); Taylor series until the sum stops changing.
   * ``hastings``: Hastings / A&S 4.4.49 polynomial (``atan x / x``, degree 16 in
     x, ``|error| <= 2e-8`` on ``[0, 1]``), Horner form.
+  * ``pi3``: no inversion for ``1 < x <= tan 75 deg``: there
+    ``pi/3 + atan((x - sqrt3) / (x*sqrt3 + 1))``; ``tan 15 < x <= 1`` as ``pi6``;
+    ``x > tan 75``: ``pi/2 - atan(1/x)``.  Every series argument is at most
+    ``tan 15 deg`` and the pi/2 subtraction only happens for large x.
 
 sqrt (SQRT): ``x < 0``: ``on_error`` is called and SQRT(ABS(X)) is returned
 (C28-0328-3 p. 23); ``SQRT(0) = 0``.  Newton's iteration
@@ -117,6 +147,7 @@ running away.
 from __future__ import annotations
 
 import decimal
+import math
 from collections.abc import Callable
 from fractions import Fraction
 
@@ -136,17 +167,23 @@ MAX_DIGITS = 40
 
 _CACHE_LIMIT = 4096
 
+_BASE = {"reduce": "model", "cos": "own", "final": "trunc"}
 VARIANTS: dict[str, dict[str, str]] = {
-    "taylor": {"trig": "octant", "atan": "pi6", "sqrt": "exp"},
-    "quadrant": {"trig": "quadrant", "atan": "pi4", "sqrt": "one"},
-    "hastings": {"trig": "hastings", "atan": "hastings", "sqrt": "fixed"},
+    "sine": {"trig": "sine", "atan": "pi3", "sqrt": "exp", "reduce": "exact", "cos": "own",
+             "final": "trunc"},
+    "taylor": {"trig": "octant", "atan": "pi6", "sqrt": "exp", **_BASE},
+    "quadrant": {"trig": "quadrant", "atan": "pi4", "sqrt": "one", **_BASE},
+    "hastings": {"trig": "hastings", "atan": "hastings", "sqrt": "fixed", **_BASE},
 }
 _CHOICES = {
-    "trig": ("octant", "quadrant", "hastings"),
-    "atan": ("pi6", "pi4", "hastings"),
+    "trig": ("octant", "quadrant", "hastings", "sine"),
+    "atan": ("pi6", "pi4", "hastings", "pi3"),
     "sqrt": ("exp", "one", "fixed"),
+    "reduce": ("model", "exact"),
+    "cos": ("own", "shift"),
+    "final": ("trunc", "round2"),
 }
-DEFAULT_VARIANT = "taylor"
+DEFAULT_VARIANT = "sine"
 
 # Hastings (1955) / Abramowitz & Stegun 4.3.97, 4.3.99, 4.4.49 coefficients,
 # lowest order first, as polynomials in x**2.
@@ -887,6 +924,8 @@ class IBM1410:
             self._HALFPI = pair(str(pi / 2))
             self._QUARTERPI = pair(str(pi / 4))
             self._SIXTHPI = pair(str(pi / 6))
+            self._THIRDPI = pair(str(pi / 3))
+            self._TAN75 = pair(str(2 + sqrt3))  # tan(5 pi/12) = 2 + sqrt 3
             self._SQRT3 = pair(_SQRT3)
             self._TAN15 = pair(str(2 - sqrt3))  # tan(pi/12) = 2 - sqrt 3
             self._TAN225 = pair(str(decimal.Decimal(2).sqrt() - 1))  # tan(pi/8)
@@ -901,10 +940,71 @@ class IBM1410:
         self._h_atan = [pair(c) for c in reversed(_HASTINGS_ATAN)]
         self._newton_fixed = 5 if K <= 8 else 6 if K <= 17 else 7 if K <= 35 else 8
 
+        # "sine": Horner form of the Taylor series of sin with N factors, N fixed per K so
+        # that the first omitted term, (pi/2)**(2N+3)/(2N+3)!, is below 10**-(K+1).
+        N = 1
+        while (math.pi / 2) ** (2 * N + 3) / math.factorial(2 * N + 3) >= 10.0 ** -(K + 1):
+            N += 1
+        self._sine_terms = N
+        self._sine_div = self._sin_div[N - 1::-1]  # (2N)(2N+1), ..., 20, 6
+
         self._trig_kind = self.choice["trig"]
         self._atan_core = {"pi6": self._atan_pi6, "pi4": self._atan_pi4,
-                           "hastings": self._atan_hastings}[self.choice["atan"]]
+                           "hastings": self._atan_hastings,
+                           "pi3": self._atan_pi3}[self.choice["atan"]]
         self._sqrt_kind = self.choice["sqrt"]
+        # the library's reduction subtractions: model arithmetic, or exact then truncated
+        self._rsub = self._add if self.choice["reduce"] == "model" else self._add_exact
+        self._cos_shift = self.choice["cos"] == "shift"
+        if self.choice["final"] == "round2":
+            if K + 2 > MAX_DIGITS:
+                raise ValueError(f"final=round2 needs K + 2 <= {MAX_DIGITS} digits")
+            inner_choice = dict(self.choice, final="trunc")
+            inner = IBM1410(K + 2, on_error, ",".join(f"{k}={v}" for k, v in inner_choice.items()))
+            self._inner = inner
+            for fname in ("SIN", "COS", "ATAN", "SQRT"):
+                setattr(self, fname, self._rounded(getattr(inner, fname)))
+
+    def _rounded(self, f: Callable):
+        """f computed with K+2 digits (the argument converts exactly), then rounded to K."""
+        K, inner, num = self.digits, self._inner, self.num
+
+        def g(x):
+            if type(x) is not self.number:
+                x = num(x)
+            y = f(inner.num(x.to_decimal())).to_decimal()
+            with decimal.localcontext() as ctx:
+                ctx.prec = K
+                ctx.rounding = decimal.ROUND_HALF_UP
+                y = +y
+            return num(y)
+
+        g.__name__ = f.__name__
+        return g
+
+    def _add_exact(self, am: int, ae: int, bm: int, be: int) -> Pair:
+        """a + b computed exactly, then truncated to K digits (a guard-digit subtraction)."""
+        if not am:
+            return bm, be
+        if not bm:
+            return am, ae
+        e = min(ae, be)
+        r = am * 10 ** (ae - e) + bm * 10 ** (be - e)
+        if not r:
+            return 0, EMIN
+        n = len(str(abs(r)))
+        K = self.digits
+        if n > K:
+            r = r // 10 ** (n - K) if r > 0 else -(-r // 10 ** (n - K))
+        else:
+            r *= 10 ** (K - n)
+        e += n - K
+        if e > EMAX:
+            raise ArithmeticError1410(f"IBM 1410 floating-point overflow in library reduction: "
+                                      f"exponent {e} > {EMAX}")
+        if e < EMIN:
+            return 0, EMIN
+        return r, e
 
     def __repr__(self) -> str:
         return f"IBM1410({self.digits}, variant={self.variant!r})"
@@ -915,7 +1015,14 @@ class IBM1410:
         return self._trig(x, True)
 
     def COS(self, x):
-        """COS(X) in K-digit arithmetic (``variant`` trig choice)."""
+        """COS(X) in K-digit arithmetic (``variant`` trig choice).
+
+        ``cos=shift``: COS(X) = SIN(ABS(X) + pi/2), the sum in model arithmetic."""
+        if self._cos_shift:
+            if type(x) is not self.number:
+                x = self.num(x)
+            m, e = self._add(abs(x.m), x.e, *self._HALFPI)
+            return self._trig(self._make(m, e), True)
         return self._trig(x, False)
 
     def _trig(self, x, want_sin: bool):
@@ -946,11 +1053,15 @@ class IBM1410:
         kind = self._trig_kind
         if kind == "hastings":
             vm, ve = self._trig_hastings(m, e, use_sin)
+        elif kind == "sine":
+            if not use_sin:  # cos r = sin(pi/2 - r)
+                m, e = self._rsub(hm, he, -m, e)
+            vm, ve = self._sine(m, e)
         else:
             if kind == "octant":
                 qm, qe = self._QUARTERPI
                 if e > qe or (e == qe and m > qm):  # r > pi/4: pi/2 - r, co-function
-                    m, e = self._add(hm, he, -m, e)
+                    m, e = self._rsub(hm, he, -m, e)
                     use_sin = not use_sin
             if use_sin:  # s = t = r; t = t * r*r / ((2k)(2k+1)); s = s -/+ t
                 v = self._series(m, e, m, e, m, e, self._sin_div, True)
@@ -966,7 +1077,7 @@ class IBM1410:
     def _reduce(self, am: int, ae: int) -> tuple[int, int, int]:
         """|x| -> (q mod 4, r) with q = INT(|x| / (pi/2)), r = |x| - q*(pi/2)."""
         K = self.digits
-        add = self._add
+        add = self._rsub
         hm, he = self._HALFPI
         qm, qe = self._div(am, ae, hm, he)  # |x| / (pi/2)
         s = qe - K  # INT(): drop the fraction digits of the quotient
@@ -982,6 +1093,19 @@ class IBM1410:
             q += 1
             rm, re = add(rm, re, -hm, he)
         return q & 3, rm, re
+
+    def _sine(self, rm: int, re: int) -> Pair:
+        """Horner form of the sine series, N factors (``_sine_terms``), 0 <= r <= pi/2:
+
+        x2 = r*r; p = 1; p = 1 - (x2 / ((2k)(2k+1))) * p for k = N..1; result r * p."""
+        mul, div, add = self._mul, self._div, self._add
+        om, oe = self._ONE
+        x2m, x2e = mul(rm, re, rm, re)
+        pm, pe = om, oe
+        for dm, de in self._sine_div:
+            tm, te = mul(*div(x2m, x2e, dm, de), pm, pe)
+            pm, pe = add(om, oe, -tm, te)
+        return mul(rm, re, pm, pe)
 
     def _trig_hastings(self, rm: int, re: int, use_sin: bool) -> Pair:
         """Horner: p = c_n; p = p * r*r + c_k ...; sin: p * r, cos: p."""
@@ -1004,6 +1128,8 @@ class IBM1410:
             m = -m
         om, oe = self._ONE
         inv = e > oe or (e == oe and m > om)  # |x| > 1
+        if inv and self._atan_core == self._atan_pi3 and self._cmp(m, e, *self._TAN75) <= 0:
+            inv = False  # pi3: 1 < |x| <= tan 75 deg is reduced by pi/3, not inverted
         if inv:
             m, e = self._div(om, oe, m, e)  # 1/x
         vm, ve = self._atan_core(m, e)
@@ -1044,6 +1170,18 @@ class IBM1410:
             tm, te = self._div(nm, ne, dm, de)
             return add(*self._QUARTERPI, *self._atan_series(tm, te))  # pi/4 + atan(t)
         return self._atan_series(am, ae)
+
+    def _atan_pi3(self, am: int, ae: int) -> Pair:
+        """Offsets pi/6 on (tan 15, 1] and pi/3 on (1, tan 75]; series below tan 15."""
+        mul, add, div = self._mul, self._add, self._div
+        om, oe = self._ONE
+        s3m, s3e = self._SQRT3
+        if self._cmp(am, ae, om, oe) <= 0:
+            return self._atan_pi6(am, ae)
+        # 1 < a <= tan 75 deg (ATAN inverts larger arguments)
+        nm, ne = add(am, ae, -s3m, s3e)  # a - sqrt3
+        dm, de = add(*mul(am, ae, s3m, s3e), om, oe)  # a*sqrt3 + 1
+        return add(*self._THIRDPI, *self._atan_series(*div(nm, ne, dm, de)))  # pi/3 + atan(t)
 
     def _atan_hastings(self, am: int, ae: int) -> Pair:
         mul, add = self._mul, self._add
