@@ -175,7 +175,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="sielaff",
         description="Sielaff's 1966 crank-rocker program: faithful IBM 1410 emulator "
                     "and modern analysis engine.",
-        epilog="example:\n  sielaff run decks/example.dat | head -60",
+        epilog="example:\n  sielaff run decks/example.dat | head -60\n"
+               "  sielaff check decks/example.dat\n"
+               "  sielaff plot decks/example.dat -o plots",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--debug", action="store_true", help="show tracebacks on failure")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")

@@ -1,0 +1,507 @@
+"""``sielaff check DECK``: what a designer needs to know about a deck before using it.
+
+The report (stdout) has four parts:
+
+Deck
+    Every value as punched, with its unit and meaning, and for each range
+    card the sheets the 1966 listing will print.
+Linkage
+    The Grashof sum (s + l against p + q, with its margin), which link is
+    the shortest and so what kind of four-bar it is, and the report's five
+    crank-rocker conditions (statements 45-51) each with its margin.
+One revolution (modern engine, TEX = 0)
+    Transmission angle extremes (closed form: they lie at THETA 2 = 0 and
+    180) and the closest approach to toggle; the peak bearing loads F 2 ON 1
+    (FOA), F 4 ON 1 (FOB), F 3 ON 2 (FA32) and F 3 ON 4 (FB34), the peak
+    driving torque either way, the peak shaking force and its largest X and
+    Y components, all found on a 0.1-degree grid and refined to 0.001
+    degree; and the cycle work, the integral of TORQ over one revolution
+    (trapezoid rule on the 0.1-degree grid), which is zero for TEX = 0 since
+    the crank turns at constant speed.
+1966 quirks
+    Every quirk of docs/quirks.md this deck triggers in ``sielaff run``.  The
+    sheets a range card prints, and so the trailing sheet past THMAX, the
+    two sheets of THZERO = THMAX, the angles past 360 (Case II) or below 0
+    (Case I) and an endless range, are predicted from the range cards with
+    the port's own float64 arithmetic (THETA 2 = (THZERO - DELTA) + I*DELTA),
+    so a deck of a million sheets is checked at once.  The TAN3/TAN4
+    stand-in, SQRT of a negative argument, and a 1966 arithmetic that fails
+    can only be seen by running the port: it is run (without printing) on
+    the first ``SHEET_LIMIT`` sheets.
+
+Exit status: 0 usable, 2 unusable (a deck that does not read, an endless
+range, 1966 arithmetic that fails), 3 not a crank-rocker; the reason is one
+line on stderr.
+"""
+
+from __future__ import annotations
+
+import math
+import textwrap
+from dataclasses import dataclass, field
+from decimal import Decimal
+
+import numpy as np
+
+from sielaff.cards import PARAMETER_CARDS, Deck
+from sielaff.mechanism import UNITS, Mechanism, crank_rocker_failure
+
+__all__ = [
+    "SHEET_LIMIT", "CheckReport", "RangeSheets", "check_deck", "cycle_work",
+    "range_sheets", "revolution",
+]
+
+EXIT_OK, EXIT_UNUSABLE, EXIT_NOT_CRANK_ROCKER = 0, 2, 3
+
+#: The port is run on at most this many sheets to find the quirks that need it.
+SHEET_LIMIT = 10_000
+
+#: One revolution, the grid the loads are found on (degrees).
+GRID_STEP = 0.1
+REFINE_STEP = 0.001
+
+#: Rule of thumb for the transmission angle (degrees).
+GAMMA_GUIDE = 40.0
+
+MEANINGS = {
+    "W2": "weight of link 2 (crank)",
+    "W3": "weight of link 3 (coupler)",
+    "W4": "weight of link 4 (rocker)",
+    "ZI2": "moment of inertia of link 2 (never used: constant speed)",
+    "ZI3": "moment of inertia of link 3 (about G3)",
+    "ZI4": "moment of inertia of link 4 (about G4)",
+    "R1": "frame, O2 to O4",
+    "R2": "crank, O2 to A",
+    "R3": "coupler, A to B",
+    "R4": "rocker, O4 to B",
+    "ADEL2": "line O2-G2, from link 2",
+    "ADEL3": "line A-G3, from link 3",
+    "ADEL4": "line O4-G4, from link 4",
+    "RG2": "O2 to G2",
+    "RG3": "A to G3",
+    "RG4": "O4 to G4",
+    "TH2D": "crank speed (constant)",
+}
+
+LINK_NAMES = {"R1": "frame", "R2": "crank", "R3": "coupler", "R4": "rocker"}
+
+#: The bearing loads reported: (listing name, printed heading, the bearing).
+BEARINGS = (
+    ("FOA", "F 2 ON 1", "O2"),
+    ("FOB", "F 4 ON 1", "O4"),
+    ("FA32", "F 3 ON 2", "A"),
+    ("FB34", "F 3 ON 4", "B"),
+)
+
+
+def num(value: float | Decimal) -> str:
+    """A deck value as the report prints it: shortest exact form."""
+    if isinstance(value, Decimal):
+        if value == 0:
+            return "0.0"
+        text = f"{value.normalize():f}"
+        if len(text) > 16:
+            return f"{float(value):.10g}"
+        return text if "." in text else text + ".0"
+    return f"{value:.10g}" if "e" in f"{value:.10g}" else _plain(value)
+
+
+def _plain(value: float) -> str:
+    text = f"{value:.10g}"
+    return text if "." in text else text + ".0"
+
+
+# --------------------------------------------------------------------------
+# What the 1966 loop does with a range card
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RangeSheets:
+    """The sheets the 1966 loop prints for one range card (float64 arithmetic).
+
+    ``count`` is None for an endless range.  ``past_360``/``below_0`` are
+    (number of sheets, first THETA 2, last THETA 2) or None.
+    """
+
+    thzero: float
+    delta: float
+    thmax: float
+    count: int | None
+    first: float | None = None
+    last: float | None = None
+    past_360: tuple[int, float, float] | None = None
+    below_0: tuple[int, float, float] | None = None
+
+
+def _angle(th: float, delta: float, i: int) -> float:
+    """THETA 2 of sheet ``i`` (1-based): ``ATH2 = TH + ZZZ*DELTA``, as the port does it."""
+    return th + float(i) * delta
+
+
+def _first(pred, lo: int, hi: int) -> int:
+    """The smallest i in [lo, hi] with pred(i) true, pred monotone; hi + 1 if none."""
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        if pred(mid):
+            hi = mid - 1
+        else:
+            lo = mid + 1
+    return lo
+
+
+def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
+    """Predict the sheets of one range card without running the loop."""
+    th = thzero - delta
+    if delta <= 0.0:
+        if thzero <= thmax:
+            return RangeSheets(thzero, delta, thmax, None)
+        n = 1
+    else:
+        hi = max(2, math.ceil((thmax - thzero) / delta) + 3)
+        while not _angle(th, delta, hi) > thmax:
+            hi *= 2
+        n = _first(lambda i: _angle(th, delta, i) > thmax, 1, hi)
+    first, last = _angle(th, delta, 1), _angle(th, delta, n)
+    past = below = None
+    if delta > 0.0:
+        k = _first(lambda i: _angle(th, delta, i) > 360.0, 1, n)
+        if k <= n:
+            past = (n - k + 1, _angle(th, delta, k), last)
+        k = _first(lambda i: not _angle(th, delta, i) < 0.0, 1, n)
+        if k > 1:
+            below = (k - 1, first, _angle(th, delta, k - 1))
+    else:
+        if first > 360.0:
+            past = (1, first, first)
+        if first < 0.0:
+            below = (1, first, first)
+    return RangeSheets(thzero, delta, thmax, n, first, last, past, below)
+
+
+# --------------------------------------------------------------------------
+# One revolution with the modern engine
+# --------------------------------------------------------------------------
+
+
+def revolution(step: float = GRID_STEP) -> np.ndarray:
+    """Crank angles 0, step, ..., 360 (degrees, both ends)."""
+    n = round(360.0 / step)
+    return np.linspace(0.0, 360.0, n + 1)
+
+
+def cycle_work(mechanism: Mechanism, step: float = GRID_STEP) -> tuple[float, float]:
+    """(integral of TORQ, integral of |TORQ|) d(THETA 2) over one revolution, in-lb.
+
+    Trapezoid rule on a ``step``-degree grid, THETA 2 in radians.
+    """
+    from sielaff.engine import analyze
+
+    th = revolution(step)
+    torq = analyze(mechanism, th, ["TORQ"])["TORQ"]
+    x = np.radians(th)
+    return float(np.trapezoid(torq, x)), float(np.trapezoid(np.abs(torq), x))
+
+
+def _extreme(mechanism: Mechanism, name: str, sign: float = 1.0) -> tuple[float, float]:
+    """(THETA 2, value) where ``sign * name`` is largest over one revolution."""
+    from sielaff.engine import analyze
+
+    th = revolution()[:-1]
+    v = sign * analyze(mechanism, th, [name])[name]
+    t0 = th[int(np.argmax(v))]
+    fine = t0 + np.arange(-GRID_STEP, GRID_STEP + REFINE_STEP / 2, REFINE_STEP)
+    v = sign * analyze(mechanism, fine, [name])[name]
+    i = int(np.argmax(v))
+    return float(fine[i] % 360.0) + 0.0, float(sign * v[i])
+
+
+# --------------------------------------------------------------------------
+# The report
+# --------------------------------------------------------------------------
+
+
+@dataclass
+class CheckReport:
+    """The lines printed, the exit status and (if not 0) the one-line reason."""
+
+    lines: list[str] = field(default_factory=list)
+    status: int = EXIT_OK
+    error: str | None = None
+
+    def add(self, text: str = "") -> None:
+        self.lines.append(text)
+
+    @property
+    def text(self) -> str:
+        return "\n".join(self.lines) + "\n"
+
+
+def _deck_section(deck: Deck, rep: CheckReport, sheets: list[RangeSheets]) -> None:
+    n_cards = len(PARAMETER_CARDS) + len(deck.ranges)
+    rep.add(f"Deck: {len(PARAMETER_CARDS)} parameter cards and {len(deck.ranges)} range "
+            f"card{'s' if len(deck.ranges) != 1 else ''} ({n_cards} cards)")
+    for card, names in enumerate(PARAMETER_CARDS, 1):
+        for k, name in enumerate(names):
+            value = deck.exact.get(name, Decimal(repr(getattr(deck.mechanism, name))))
+            head = f"card {card}" if k == 0 else ""
+            rep.add(f"  {head:7} {name:5} = {num(value):>9} {UNITS[name]:11}  {MEANINGS[name]}")
+    for card, rs, exact in zip(deck.range_cards, sheets, _exact_ranges(deck)):
+        rep.add(f"  card {card:<2} THZERO = {num(exact[0])} deg, DELTA = {num(exact[1])} deg, "
+                f"THMAX = {num(exact[2])} deg")
+        if rs.count is None:
+            rep.add("          1966 listing: endless (see the quirks below)")
+        elif rs.count == 1:
+            rep.add(f"          1966 listing: 1 sheet, THETA 2 = {_plain(rs.first)}")
+        else:
+            rep.add(f"          1966 listing: {rs.count:,} sheets, THETA 2 = {_plain(rs.first)} "
+                    f"to {_plain(rs.last)}")
+    for warning in deck.warnings:
+        rep.add(f"  warning: {warning}")
+
+
+def _exact_ranges(deck: Deck) -> list[tuple]:
+    if deck.exact_ranges and len(deck.exact_ranges) == len(deck.ranges):
+        return list(deck.exact_ranges)
+    return [tuple(r) for r in deck.ranges]
+
+
+def _linkage_section(m: Mechanism, rep: CheckReport) -> str | None:
+    rep.add("Linkage")
+    links = sorted(("R1", "R2", "R3", "R4"), key=lambda n: getattr(m, n))
+    s, p, q, lng = (getattr(m, n) for n in links)
+    rep.add("  lengths: " + ", ".join(f"{LINK_NAMES[n]} {n} = {_plain(getattr(m, n))} in"
+                                      for n in ("R1", "R2", "R3", "R4")))
+    sl, pq = s + lng, p + q
+    if sl < pq:
+        verdict, cmp = "a Grashof linkage: the shortest link turns fully", "<"
+    elif sl > pq:
+        verdict, cmp = "not Grashof: no link turns fully (a triple rocker)", ">"
+    else:
+        verdict, cmp = "a change-point linkage: all four links can line up", "="
+    rep.add(f"  Grashof sum: s + l = {_plain(s)} + {_plain(lng)} = {_plain(sl)} in {cmp} "
+            f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} in (margin {_plain(pq - sl)} in)")
+    rep.add(f"    {verdict}")
+    shortest = [n for n in links if getattr(m, n) == s]
+    kinds = {"R2": "a crank-rocker", "R1": "a double crank (drag link)",
+             "R3": "a double rocker", "R4": "a rocker-crank (link 4 turns fully)"}
+    names = " and ".join(f"{LINK_NAMES[n]} {n}" for n in shortest)
+    if sl < pq and len(shortest) == 1:
+        rep.add(f"  shortest link: {names} = {_plain(s)} in, so {kinds[shortest[0]]}")
+    else:
+        rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} in")
+    failure = crank_rocker_failure(m)
+    if not m.R2 > 0:
+        rep.add(f"  crank-rocker conditions: {failure}")
+        return failure
+    A, B, C = m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2
+    rep.add("  crank-rocker conditions (report p. 4; statements 45-51), "
+            "A = R3/R2, B = R4/R2, C = R1/R2:")
+    rows = (
+        (f"A = {A:.6g} > 1", A - 1.0),
+        (f"B = {B:.6g} > 1", B - 1.0),
+        (f"C = {C:.6g} > 1", C - 1.0),
+        (f"C = {C:.6g} < A + B - 1 = {A + B - 1.0:.6g}", A + B - 1.0 - C),
+        (f"C = {C:.6g} > |B - A| + 1 = {abs(B - A) + 1.0:.6g}", C - abs(B - A) - 1.0),
+    )
+    for text, margin in rows:
+        rep.add(f"    {text:38} margin {margin:<8.4g} {'ok' if margin > 0 else 'FAILS'}")
+    return failure
+
+
+def _clamp(x: float) -> float:
+    return min(1.0, max(-1.0, x))
+
+
+def _revolution_section(m: Mechanism, rep: CheckReport) -> None:
+    rep.add("One revolution (modern engine, TEX = 0)")
+    rep.add(f"  THETA 2 = 0 to 360 on a {GRID_STEP:g} deg grid, peaks refined to "
+            f"{REFINE_STEP:g} deg")
+    # Transmission angle: ZL is smallest at THETA 2 = 0 and largest at 180.
+    k = 2.0 * m.R3 * m.R4
+    g_min = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 - m.R2) ** 2) / k)))
+    g_max = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 + m.R2) ** 2) / k)))
+    rep.add("  transmission angle GAMMA (between coupler and rocker, at B):")
+    rep.add(f"    minimum {g_min:6.2f} deg at THETA 2 = 0.0 deg")
+    rep.add(f"    maximum {g_max:6.2f} deg at THETA 2 = 180.0 deg")
+    if g_min <= 180.0 - g_max:
+        toggle, at, which = g_min, 0.0, "0"
+    else:
+        toggle, at, which = 180.0 - g_max, 180.0, "180"
+    rep.add(f"    closest approach to toggle (GAMMA = {which} deg): {toggle:.2f} deg, "
+            f"at THETA 2 = {at:.1f} deg")
+    lo, hi = GAMMA_GUIDE, 180.0 - GAMMA_GUIDE
+    if g_min < lo or g_max > hi:
+        near = " and ".join(a for bad, a in ((g_min < lo, "0"), (g_max > hi, "180")) if bad)
+        rep.add(f"    outside the usual {lo:.0f}-{hi:.0f} deg guideline: the rocker is "
+                f"driven poorly near THETA 2 = {near} deg")
+    else:
+        rep.add(f"    within the usual {lo:.0f}-{hi:.0f} deg guideline")
+    from sielaff.engine import analyze
+
+    rep.add("  peak bearing loads:")
+    for name, heading, where in BEARINGS:
+        at, value = _extreme(m, name)
+        direction = float(analyze(m, at, ["D" + name])["D" + name])
+        rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} lb at THETA 2 = "
+                f"{at:5.1f} deg, direction {direction:5.1f} deg")
+    at_max, t_max = _extreme(m, "TORQ")
+    at_min, t_min = _extreme(m, "TORQ", -1.0)
+    peak = max(abs(t_max), abs(t_min))
+    rep.add("  driving torque TORQ:")
+    rep.add(f"    largest       {t_max:9.1f} in-lb at THETA 2 = {at_max:5.1f} deg")
+    rep.add(f"    most negative {t_min:9.1f} in-lb at THETA 2 = {at_min:5.1f} deg")
+    rep.add(f"    peak power |TORQ| TH2D = {peak * abs(m.TH2D):.0f} in-lb/sec "
+            f"= {peak * abs(m.TH2D) / 6600.0:.3g} hp")
+    work, abs_work = cycle_work(m)
+    ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
+    rep.add(f"  cycle work, integral of TORQ d(THETA 2) over a revolution: {work:.3g} in-lb")
+    rep.add(f"    (integral of |TORQ|: {abs_work:.1f} in-lb): "
+            + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
+    at, shak = _extreme(m, "SHAK")
+    _, sx = _extreme(m, "SHAKX")
+    _, sx_neg = _extreme(m, "SHAKX", -1.0)
+    _, sy = _extreme(m, "SHAKY")
+    _, sy_neg = _extreme(m, "SHAKY", -1.0)
+    rep.add(f"  shaking force SHAKE: peak {shak:.1f} lb at THETA 2 = {at:.1f} deg")
+    rep.add(f"    X component from {sx_neg:.1f} to {sx:.1f} lb, "
+            f"Y component from {sy_neg:.1f} to {sy:.1f} lb")
+
+
+class _Collector:
+    """A ``notice`` callback that keeps the port's notices by kind."""
+
+    def __init__(self) -> None:
+        self.by_kind: dict[str, list[str]] = {}
+
+    def __call__(self, kind: str, text: str) -> None:
+        self.by_kind.setdefault(kind, []).append(text)
+
+
+class _NullSink:
+    def write(self, text: str) -> int:
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+
+def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
+                   sheet_limit: int) -> str | None:
+    """The quirks; returns the one-line reason if the deck is unusable."""
+    from sielaff.cli import endless_range
+
+    rep.add("1966 quirks this deck triggers in sielaff run")
+    rep.add("  (docs/quirks.md; the modern engine has none of them)")
+    quirks: list[str] = []
+    for card, rs in zip(deck.range_cards, sheets):
+        where = f"card {card}"
+        if rs.count is None:
+            quirks.append(f"{where}, columns 9-16: DELTA = {_plain(rs.delta)} with THZERO = "
+                          f"{_plain(rs.thzero)} <= THMAX = {_plain(rs.thmax)}: the 1966 loop "
+                          "never ends (THETA 2 never passes THMAX); sielaff run refuses the deck")
+            continue
+        if rs.count == 1 and rs.thzero > rs.thmax:
+            quirks.append(f"{where}: THZERO = {_plain(rs.thzero)} > THMAX = {_plain(rs.thmax)}, "
+                          f"yet the 1966 loop prints one sheet, at THETA 2 = {_plain(rs.first)}")
+        elif rs.thzero == rs.thmax:
+            quirks.append(f"{where}: THZERO = THMAX = {_plain(rs.thmax)} prints "
+                          f"{rs.count} sheets (THETA 2 = {_plain(rs.first)} to "
+                          f"{_plain(rs.last)}), not the one the report promises")
+        else:
+            quirks.append(f"{where}: trailing sheet past THMAX: the last sheet is THETA 2 = "
+                          f"{_plain(rs.last)} > THMAX = {_plain(rs.thmax)} (the 1966 loop "
+                          "prints a sheet before testing ATH2.GT.THMAX)")
+        for span, text in ((rs.past_360, "past one revolution, where the 1966 program takes "
+                            "the Case II branch (TH2 >= PI)"),
+                           (rs.below_0, "below zero, where the 1966 program takes the Case I "
+                            "branch (TH2 < PI)")):
+            if span:
+                n, a, b = span
+                at = (f"THETA 2 = {_plain(a)}" if n == 1
+                      else f"THETA 2 = {_plain(a)} to {_plain(b)}")
+                quirks.append(f"{where}: {n:,} sheet{'s' if n > 1 else ''} {text}: {at}; "
+                              f"{'their' if n > 1 else 'its'} THETA 3, THETA 4 and all that "
+                              "follows are not the mechanism's")
+    reason = endless_range(deck)
+    if reason is None and crank_rocker_failure(deck.mechanism) is None:
+        reason = _run_port(deck, sheets, quirks, sheet_limit)
+    for q in quirks:
+        rep.lines.extend(textwrap.wrap(q, 96, initial_indent="  ", subsequent_indent="    ",
+                                       break_on_hyphens=False))
+    if not quirks:
+        rep.add("  none")
+    return reason
+
+
+def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
+              sheet_limit: int) -> str | None:
+    """Run the port without printing; add the quirks only a run shows."""
+    from sielaff.emulator import run
+    from sielaff.program import ProgramError, SheetLimit
+
+    total = sum(rs.count or 0 for rs in sheets)
+    notes = _Collector()
+    reason = None
+    try:
+        run(deck, _NullSink(), notice=notes, max_sheets=sheet_limit)
+    except SheetLimit:
+        pass
+    except ProgramError as exc:
+        reason = f"{deck.path}: the 1966 arithmetic fails: {exc}"
+        quirks.append(f"the 1966 arithmetic fails: {exc}; sielaff run stops there")
+    for kind in ("tan-standin", "library"):
+        texts = notes.by_kind.get(kind, [])
+        quirks.extend(texts[:5])
+        if len(texts) > 5:
+            quirks.append(f"... and {len(texts) - 5:,} more like it")
+    if total > sheet_limit:
+        quirks.append(f"(TAN3/TAN4 stand-ins and SQRT errors: only the first {sheet_limit:,} of "
+                      f"the {total:,} sheets were run; sielaff run reports the rest)")
+    return reason
+
+
+def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
+    """The report for ``deck`` (see the module doc)."""
+    rep = CheckReport()
+    rep.add(f"sielaff check: {deck.path}")
+    rep.add()
+    sheets = [range_sheets(*r) for r in deck.ranges]
+    _deck_section(deck, rep, sheets)
+    rep.add()
+    failure = _linkage_section(deck.mechanism, rep)
+    rep.add()
+    if failure is None:
+        _revolution_section(deck.mechanism, rep)
+        rep.add()
+    reason = _quirk_section(deck, sheets, rep, sheet_limit)
+    rep.add()
+    if failure is not None:
+        rep.status = EXIT_NOT_CRANK_ROCKER
+        rep.error = f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}"
+        rep.add("Verdict: not a crank-rocker; the 1966 program stops at statement 52 (exit 3)")
+    elif reason is not None:
+        rep.status = EXIT_UNUSABLE
+        rep.error = reason
+        rep.add("Verdict: unusable: sielaff run cannot complete this deck (exit 2)")
+    else:
+        rep.add("Verdict: usable")
+    return rep
+
+
+def cmd_check(args) -> int:
+    """``sielaff check DECK``: the report on stdout, the reason for a non-zero exit on stderr."""
+    import os
+    import sys
+
+    from sielaff.cards import read_deck
+    from sielaff.cli import CommandError
+
+    if not os.path.exists(args.deck):
+        raise CommandError(f"{args.deck}: no such deck")
+    rep = check_deck(read_deck(args.deck))
+    sys.stdout.write(rep.text)
+    sys.stdout.flush()
+    if rep.error:
+        print(rep.error, file=sys.stderr)
+    return rep.status

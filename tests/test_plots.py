@@ -1,0 +1,246 @@
+"""``sielaff plot``: the report's figures as PNG files, and the data behind them."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import DECKS
+from sielaff import engine
+from sielaff.cards import parse_deck, read_deck
+from sielaff.engine import analyze
+from sielaff.mechanism import EXAMPLE
+from sielaff.plots import plot_data, sample_angles
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+FORCE_FILES = [
+    "fig12-driving-torque.png", "fig13-force-4-on-1.png", "fig14-force-3-on-4-rel-link4.png",
+    "force-2-on-1.png", "force-3-on-2.png", "fig16-shaking-force.png",
+]
+KINEMATIC_FILES = [
+    "kin-link-angles.png", "kin-angular-velocity.png", "kin-angular-acceleration.png",
+    "kin-pin-velocity.png", "kin-pin-acceleration.png",
+]
+PARAMETERS = "".join((DECKS / "example.dat").read_text().splitlines(keepends=True)[:6])
+
+
+def deck_with(*ranges):
+    return parse_deck(PARAMETERS + "".join("".join(f"{v:8.3f}" for v in r) + "\n"
+                                           for r in ranges))
+
+
+@pytest.fixture(scope="module")
+def example():
+    return read_deck(DECKS / "example.dat")
+
+
+@pytest.fixture(scope="module")
+def data(example):
+    return plot_data(example)
+
+
+# --------------------------------------------------------------------------
+# The data
+# --------------------------------------------------------------------------
+
+
+def test_figures(data):
+    assert [d.filename for d in data.values()] == FORCE_FILES
+    assert [d.kind for d in data.values()] == ["line"] + ["polar"] * 5
+
+
+def test_sampling_every_degree_whatever_delta():
+    for delta in (10.0, 30.0, 90.0, 0.25):
+        th = sample_angles(deck_with((10.0, delta, 360.0)))
+        assert th[0] == 10.0 and th[-1] == 360.0
+        assert np.all(np.diff(th) > 0) and np.max(np.diff(th)) <= 1.0
+        if delta < 1.0:
+            assert np.max(np.diff(th)) <= delta + 1e-12
+
+
+def test_sampling_several_cards():
+    th = sample_angles(deck_with((0.0, 10.0, 90.0), (45.0, 5.0, 120.0), (200.0, 10.0, 220.0),
+                                 (300.0, 10.0, 250.0)))
+    parts = np.split(th, np.flatnonzero(np.isnan(th)))
+    parts = [p[~np.isnan(p)] for p in parts]
+    assert [(p[0], p[-1]) for p in parts] == [(0.0, 120.0), (200.0, 220.0), (300.0, 300.0)]
+    assert all(np.max(np.diff(p), initial=0) <= 1.0 for p in parts)
+
+
+def test_fig12_driving_torque_matches_engine(data):
+    d = data["fig12-driving-torque"]
+    assert d.xlabel == "THETA 2, crank angle (deg)" and d.ylabel == "driving torque TORQ (in-lb)"
+    np.testing.assert_array_equal(d.ath2, sample_angles(read_deck(DECKS / "example.dat")))
+    (torq,) = d.series.values()
+    np.testing.assert_allclose(torq, analyze(EXAMPLE, d.ath2, ["TORQ"])["TORQ"], rtol=1e-12)
+    # The report's sheets: 545.6 in-lb at 40 degrees, 637.1 at 50 (Figures 10, 11).
+    at = {float(a): float(t) for a, t in zip(d.ath2, torq)}
+    assert round(at[40.0], 1) == 545.6 and round(at[50.0], 1) == 637.1
+    x, y = d.points["deck positions (listing sheets)"]
+    np.testing.assert_array_equal(x, np.arange(10.0, 361.0, 10.0))
+    np.testing.assert_allclose(y, analyze(EXAMPLE, x, ["TORQ"])["TORQ"], rtol=1e-12)
+    assert d.zero_line
+    # The cycle work in the legend: about zero (TEX = 0), by Simpson's rule here.
+    th = np.linspace(0.0, 360.0, 3601)
+    t = np.abs(analyze(EXAMPLE, th, ["TORQ"])["TORQ"])
+    w = np.ones_like(th)
+    w[1:-1:2], w[2:-1:2] = 4.0, 2.0
+    abs_work = float(np.sum(w * t) * np.radians(0.1) / 3.0)
+    (note,) = d.notes
+    work = float(note.split("= ")[1].split(" in-lb")[0])
+    assert abs(work) < 1e-6
+    assert f"= {abs_work:.0f} in-lb)" in note
+
+
+@pytest.mark.parametrize("name, mag, direction, relative", [
+    ("fig13-force-4-on-1", "FOB", "DFOB", False),
+    ("fig14-force-3-on-4-rel-link4", "FB34", "DFB34", True),
+    ("force-2-on-1", "FOA", "DFOA", False),
+    ("force-3-on-2", "FA32", "DFA32", False),
+    ("fig16-shaking-force", "SHAK", "DSHAK", False),
+])
+def test_polar_figures_match_engine(data, name, mag, direction, relative):
+    d = data[name]
+    ref = analyze(EXAMPLE, d.ath2, [mag, direction, "ATH4", mag + "X", mag + "Y"])
+    np.testing.assert_allclose(d.r, ref[mag], rtol=1e-12)
+    # The polar point (r, theta) is the force vector itself (theta relative to link 4 in 14).
+    rel = np.radians(ref["ATH4"]) if relative else 0.0
+    x = d.r * np.cos(np.radians(d.theta) + rel)
+    y = d.r * np.sin(np.radians(d.theta) + rel)
+    np.testing.assert_allclose(x, ref[mag + "X"], atol=1e-9 * np.max(d.r))
+    np.testing.assert_allclose(y, ref[mag + "Y"], atol=1e-9 * np.max(d.r))
+    assert d.link_outline == relative
+    # THETA 2 marks every 30 degrees, where the curve is at those angles.
+    np.testing.assert_array_equal(d.marks, np.arange(30.0, 361.0, 30.0))
+    m = analyze(EXAMPLE, d.marks, [mag, direction, "ATH4"])
+    np.testing.assert_allclose(d.mark_r, m[mag], rtol=1e-12)
+    want = np.mod(m[direction] - (m["ATH4"] if relative else 0.0), 360.0)
+    np.testing.assert_allclose(d.mark_theta, want, atol=1e-9)
+
+
+def test_fig14_is_mostly_along_link4(data):
+    """The report: link 4's bearing carries much more along the link than across it."""
+    d = data["fig14-force-3-on-4-rel-link4"]
+    along = np.abs(d.r * np.cos(np.radians(d.theta)))
+    across = np.abs(d.r * np.sin(np.radians(d.theta)))
+    assert along.max() > 3 * across.max()
+
+
+def test_fig16_horizontal_about_three_times_vertical(data):
+    """The report: the largest X shaking force is almost three times the largest Y."""
+    d = data["fig16-shaking-force"]
+    x = np.abs(d.r * np.cos(np.radians(d.theta))).max()
+    y = np.abs(d.r * np.sin(np.radians(d.theta))).max()
+    assert 2.4 < x / y < 3.0
+
+
+def test_kinematics_only_runs_no_force_step(example):
+    engine.STEP_CALLS.clear()
+    data = plot_data(example, only="kinematics")
+    assert [d.filename for d in data.values()] == KINEMATIC_FILES
+    assert not any(name.startswith(("_force", "_inertia")) for name in engine.STEP_CALLS)
+    want = {
+        "kin-link-angles": ["ATH3", "ATH4", "GAMMA"],
+        "kin-angular-velocity": ["TH3D", "TH4D"],
+        "kin-angular-acceleration": ["TH3DD", "TH4DD"],
+        "kin-pin-velocity": ["VA", "VB"],
+        "kin-pin-acceleration": ["AA", "AB"],
+    }
+    units = {"kin-link-angles": "(deg)", "kin-angular-velocity": "(rad/sec)",
+             "kin-angular-acceleration": "(rad/sec^2)", "kin-pin-velocity": "(in/sec)",
+             "kin-pin-acceleration": "(in/sec^2)"}
+    for name, names in want.items():
+        d = data[name]
+        assert d.ylabel.endswith(units[name])
+        ref = analyze(EXAMPLE, d.ath2, names)
+        assert len(d.series) == len(names)
+        for series, n in zip(d.series.values(), names):
+            np.testing.assert_allclose(series, ref[n], rtol=1e-12)
+
+
+def test_bad_only(example):
+    with pytest.raises(ValueError, match="kinematics"):
+        plot_data(example, only="forces")
+
+
+# --------------------------------------------------------------------------
+# The PNG files, through the command line
+# --------------------------------------------------------------------------
+
+
+def check_pngs(paths, width: int, height: int) -> None:
+    """PNG files of the given size that matplotlib reads back as non-blank images."""
+    for path in paths:
+        data = path.read_bytes()
+        assert data[:8] == PNG_SIGNATURE
+        assert len(data) > 20_000  # a drawing, not an empty canvas
+        assert int.from_bytes(data[16:20], "big") == width
+        assert int.from_bytes(data[20:24], "big") == height
+    # imread in a child process too: matplotlib would grow this one by ~40 MB.
+    code = ("import sys, matplotlib.image as m\n"
+            "for p in sys.argv[1:]:\n"
+            "    a = m.imread(p)\n"
+            "    print(*a.shape, round(float(a[..., :3].std()), 3))\n")
+    r = subprocess.run([sys.executable, "-c", code, *map(str, paths)], capture_output=True,
+                       text=True, check=True)
+    for line in r.stdout.splitlines():
+        h, w, channels, std = line.split()
+        assert (int(h), int(w)) == (height, width) and int(channels) in (3, 4)
+        assert float(std) > 0.05  # not blank
+    assert len(r.stdout.splitlines()) == len(paths)
+
+
+def plot_subprocess(*argv: str) -> tuple[int, str, str]:
+    """The command in a child process: drawing grows a process by ~100 MB, keep it there."""
+    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", *argv],
+                       capture_output=True, text=True)
+    return r.returncode, r.stdout, r.stderr
+
+
+def test_plot_writes_the_figures(tmp_path):
+    out_dir = tmp_path / "plots"
+    status, out, err = plot_subprocess(str(DECKS / "example.dat"), "-o", str(out_dir))
+    assert (status, err) == (0, "")
+    assert out.splitlines() == [str(out_dir / f) for f in FORCE_FILES]
+    assert sorted(p.name for p in out_dir.iterdir()) == sorted(FORCE_FILES)  # no temp files
+    check_pngs([out_dir / FORCE_FILES[0]], 990, 616)
+    check_pngs([out_dir / name for name in FORCE_FILES[1:]], 880, 924)
+
+
+def test_plot_kinematics_only(tmp_path):
+    status, out, err = plot_subprocess(str(DECKS / "example.dat"), "-o", str(tmp_path),
+                                       "--only", "kinematics")
+    assert (status, err) == (0, "")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(KINEMATIC_FILES)
+    check_pngs([tmp_path / name for name in KINEMATIC_FILES], 990, 616)
+
+
+def test_plot_not_crank_rocker(tmp_path):
+    deck = tmp_path / "deck.dat"
+    lines = (DECKS / "example.dat").read_text().splitlines(keepends=True)
+    lines[2] = "    12.0    14.0    16.0    12.0\n"
+    deck.write_text("".join(lines))
+    status, out, err = plot_subprocess(str(deck), "-o", str(tmp_path / "plots"))
+    assert status == 3 and out == ""
+    assert err.count("\n") == 1 and "THIS IS NOT A CRANK ROCKER MECHANISM" in err
+    assert not (tmp_path / "plots").exists()
+
+
+def test_plot_without_matplotlib(tmp_path):
+    code = ("import sys; sys.modules['matplotlib'] = None\n"
+            "from sielaff.cli import main\n"
+            f"sys.exit(main(['plot', {str(DECKS / 'example.dat')!r}, '-o', "
+            f"{str(tmp_path / 'p')!r}]))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 2
+    assert r.stderr == "sielaff: sielaff plot needs matplotlib: pip install 'sielaff[plot]'\n"
+    assert not (tmp_path / "p").exists()
+
+
+def test_plot_help_shows_example():
+    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", "--help"],
+                       capture_output=True, text=True, check=True)
+    assert "example:\n  sielaff plot decks/example.dat -o plots" in r.stdout
