@@ -359,22 +359,34 @@ def test_max_sheets_must_be_a_count():
     assert "'-1' is not a number of sheets" in err.getvalue()
 
 
-def _peak_rss_kb(argv: list[str]) -> int:
-    """Peak resident set (KiB) of a child process, from wait4's rusage."""
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(proc.pid, 0)
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    assert proc.returncode == 0, proc.stderr.read()
-    proc.stderr.close()
-    return usage.ru_maxrss
+_HWM = (
+    "import sys\n"
+    "from sielaff.cli import main\n"
+    "rc = main(sys.argv[1:])\n"
+    "hwm = [l for l in open('/proc/self/status') if l.startswith('VmHWM:')][0]\n"
+    "sys.stderr.write('PEAK ' + hwm.split()[1] + '\\n')\n"
+    "sys.exit(rc)\n"
+)
+
+
+def _peak_rss_kb(args: list[str]) -> int:
+    """Peak resident set (KiB) of a ``sielaff`` child, read from its own /proc VmHWM.
+
+    (wait4's ru_maxrss would also count the pytest process the child was forked
+    from: Linux carries the old address space's high-water mark across exec.)
+    """
+    proc = subprocess.run([sys.executable, "-c", _HWM, *args], stdout=subprocess.DEVNULL,
+                          stderr=subprocess.PIPE, text=True, check=False)
+    assert proc.returncode == 0, proc.stderr
+    return int(proc.stderr.rsplit("PEAK ", 1)[1].split()[0])
 
 
 def test_memory_is_flat_however_many_sheets(tmp_path):
     """A 10**7-sheet range streams: 200 and 20000 sheets have the same peak RSS."""
     path = write_deck(tmp_path, cards((7, "  0.0001  0.0001  1000.0")))
     out = str(tmp_path / "listing.asa")
-    short = _peak_rss_kb([*SIELAFF, "run", path, "-o", out, "--max-sheets", "200"])
-    long = _peak_rss_kb([*SIELAFF, "run", path, "-o", out, "--max-sheets", "20000"])
+    short = _peak_rss_kb(["run", path, "-o", out, "--max-sheets", "200"])
+    long = _peak_rss_kb(["run", path, "-o", out, "--max-sheets", "20000"])
     assert os.path.getsize(out) > 20000 * 1000
     assert long < 150 * 1024
     assert long - short < 8 * 1024, (short, long)
