@@ -176,7 +176,8 @@ def test_parse_card_error_attributes() -> None:
     with pytest.raises(DeckError) as info:
         parse_card(text, 3, 3, "deck.dat")
     err = info.value
-    assert str(err) == 'deck.dat: card 3, columns 9-16: "  1.2.3 ": not a number (two decimal points)'
+    assert str(err) == (
+        'deck.dat: card 3, columns 9-16: "  1.2.3 ": not a number (two decimal points)')
     assert (err.path, err.card, err.columns, err.text) == ("deck.dat", 3, (9, 16), text.ljust(80))
     assert err.reason == "not a number (two decimal points)"
 
@@ -232,7 +233,8 @@ def test_unread_fields_and_sequence_numbers_ignored() -> None:
     def junk(text: str, n: int, seq: int) -> str:
         return (text[:8 * n].ljust(8 * n) + "NOT READ" * (4 - n)).ljust(72) + f"SIEL{seq:04d}"
     sizes = [3, 3, 4, 3, 3, 1, 3]
-    d = parse_deck(deck(*(junk(c, n, 10 * i) for i, (c, n) in enumerate(zip([*PARAMS, RANGE], sizes)))))
+    d = parse_deck(deck(*(junk(c, n, 10 * i)
+                          for i, (c, n) in enumerate(zip([*PARAMS, RANGE], sizes)))))
     check_example(d)
     assert d.warnings == []
 
@@ -306,11 +308,13 @@ def test_deck_ends_before_the_first_range_card(text: str) -> None:
 
 def test_bad_field_messages_name_card_and_columns() -> None:
     err = error(deck(*PARAMS[:2], card("12.0", "1.2.3 ", "16.0", "12.0"), *PARAMS[3:], RANGE))
-    assert str(err) == 'deck.dat: card 3, columns 9-16: "  1.2.3 ": not a number (two decimal points)'
+    assert str(err) == (
+        'deck.dat: card 3, columns 9-16: "  1.2.3 ": not a number (two decimal points)')
     err = error(deck(*PARAMS[:2], card("12.0", "4.0", "16.0", "12.O"), *PARAMS[3:], RANGE))
     assert str(err) == "deck.dat: card 3, columns 25-32: \"    12.O\": not a number (character 'O')"
     err = error(deck(*PARAMS, RANGE, card("10.0", "10.0", "-")))
-    assert str(err) == 'deck.dat: card 8, columns 17-24: "       -": not a number (a sign and no digits)'
+    assert str(err) == (
+        'deck.dat: card 8, columns 17-24: "       -": not a number (a sign and no digits)')
     assert (err.card, err.columns) == (8, (17, 24))
 
 
@@ -353,7 +357,8 @@ def test_binary_is_an_error() -> None:
 
 #: Decimals with 0-4 fraction digits that fit an 8-column field with their point
 #: ("1234567.", "-999999.", "123.4567", "-12.3456", "-0.0005").
-F84 = st.builds(lambda n, p: Decimal(n).scaleb(-p), st.integers(-999999, 9999999), st.integers(0, 4))
+F84 = st.builds(lambda n, p: Decimal(n).scaleb(-p),
+                st.integers(-999999, 9999999), st.integers(0, 4))
 
 
 @given(F84)

@@ -132,6 +132,7 @@ __all__ = [
 G = 386.088
 
 _EPS = np.finfo(float).eps
+_DEGREES = 180.0 / np.pi  # what np.degrees multiplies by
 
 
 # --------------------------------------------------------------------------
@@ -197,7 +198,8 @@ def _crank_angle(ATH2):
     if ATH2.size and (ATH2.min() < 0.0 or ATH2.max() >= 360.0):
         ATH2 = np.mod(ATH2, 360.0)  # exact (fmod), so ATH2 + 360 k gives identical results
     th2 = np.radians(ATH2)
-    return np.cos(th2), np.sin(th2)
+    c2 = np.cos(th2)
+    return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
 
 
 @step(
@@ -252,7 +254,8 @@ def _loop_closure(R1, R2, R3, R4, c2, s2):
 
 def _angle_deg(s, c):
     """atan2 in degrees, mapped to (-90, 270] (the listing's range for TH3, TH4)."""
-    a = np.asarray(np.degrees(np.arctan2(s, c)))
+    a = np.asarray(np.arctan2(s, c))
+    a *= _DEGREES  # = np.degrees, in place: a fresh array costs more than the product
     np.add(a, 360.0, out=a, where=a <= -90.0)
     return a
 
@@ -559,7 +562,8 @@ def _magnitude(x, y):
 
 def _direction(x, y):
     """Direction of (x, y) in degrees, in [0, 360); 0 for the zero vector (as VECTOR)."""
-    d = np.asarray(np.degrees(np.arctan2(y, x)))
+    d = np.asarray(np.arctan2(y, x))
+    d *= _DEGREES  # = np.degrees, in place
     np.add(d, 360.0, out=d, where=d < 0.0)
     np.copyto(d, 0.0, where=d >= 360.0)  # -tiny + 360 rounds to 360
     d += 0.0  # -0.0 -> +0.0

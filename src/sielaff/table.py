@@ -1,0 +1,237 @@
+"""``sielaff table``: the modern engine's results for a deck, one row per position.
+
+For every range card (THZERO, DELTA, THMAX) of the deck the crank angles are
+THZERO, THZERO + DELTA, ... up to and including THMAX: there are
+``floor((THMAX - THZERO) / DELTA) + 1`` of them, counted exactly from the
+decimals punched on the card, so the 1966 loop's extra sheet past THMAX
+(docs/quirks.md, quirks 1 and 2) has no row, and THZERO = THMAX gives one
+row.  Each angle is the exact decimal THZERO + k DELTA rounded once to the
+nearest double (``0.3``, not ``0.1 + 0.2``).  A card with THZERO > THMAX has
+no positions: it gives no rows and a warning.  A card the 1966 loop would
+never leave (DELTA <= 0 with THZERO <= THMAX) is an error (exit 2) naming the
+card, as for ``sielaff run``; so is a mechanism that is not a crank-rocker
+(exit 3, one line naming card 3).  Nothing is written then.
+
+Columns
+    ``CARD`` (the deck line of the range card the row comes from, as in the
+    error messages), then the engine's names (:data:`sielaff.engine.RESULTS`,
+    in that order, ATH2 first)::
+
+        CARD ATH2 ATH3 ATH4 GAMMA TH3D TH4D TH3DD TH4DD TEX
+        VG2 DVG2 VG2X VG2Y VA DVA VAX VAY VG3 DVG3 VG3X VG3Y VB DVB VBX VBY
+        VG4 DVG4 VG4X VG4Y AG2 DAG2 AG2X AG2Y AA DAA AAX AAY AG3 DAG3 AG3X AG3Y
+        AB DAB ABX ABY AG4 DAG4 AG4X AG4Y FA32 DFA32 FA32X FA32Y
+        FB34 DFB34 FB34X FB34Y FOA DFOA FOAX FOAY FOB DFOB FOBX FOBY
+        SHAK DSHAK SHAKX SHAKY TORQ SHAKM
+
+    With ``--only kinematics``: ``CARD`` and :data:`sielaff.engine.KINEMATIC_OUTPUTS`
+    (the same order, without TEX and everything from FA32 on); the force
+    steps are then never run.  Units and meanings are the listing's (see
+    :mod:`sielaff.engine`): angles and directions in degrees, rates in
+    rad/sec and rad/sec^2, lengths in inches, forces in lb, torques in in-lb.
+    TEX is 0, as in the 1966 program.
+
+Formats
+    ``csv`` (default): a header row of the column names, then one line per
+    position, fields separated by commas, lines ending ``\\n``.  Numbers are
+    written with Python's ``repr`` (the shortest decimal that reads back as
+    the same double: full precision); CARD is an integer.  A value that is
+    not finite (only possible for a mechanism at or past the limits of
+    double precision) is written ``nan``, ``inf`` or ``-inf``.
+
+    ``json``: one object ``{"columns": [...], "rows": [[...], ...]}``, each
+    row a list in the order of ``columns`` (one row per line).  This form
+    keeps the column order explicit and costs the names once, not once per
+    row.  Numbers as in the CSV; a non-finite value is ``null`` (JSON has no
+    NaN).
+
+The output is written atomically (:func:`sielaff.output.atomic_output`) and
+streamed: the engine runs on blocks of :data:`BLOCK` positions and the text
+is produced :data:`CHUNK` rows at a time, so memory stays bounded however
+many positions a deck asks for.  Formatting dominates the time (a million
+full rows take about 40 s, almost all of it in ``repr``; the engine itself
+needs about a second).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Iterator
+from decimal import Decimal
+from fractions import Fraction
+from typing import TextIO
+
+import numpy as np
+
+from sielaff import engine
+from sielaff.cards import Deck
+
+__all__ = ["BLOCK", "CHUNK", "FORMATS", "MAX_POSITIONS", "columns", "count", "angles",
+           "write_table", "cmd_table"]
+
+#: Positions per engine call.
+BLOCK = 100_000
+#: Rows formatted at a time (bounds the Python objects alive at once).
+CHUNK = 10_000
+#: More positions than this on one card is refused (doubles cannot tell them apart).
+MAX_POSITIONS = 2**53
+FORMATS = ("csv", "json")
+
+
+def columns(kinematics_only: bool = False) -> tuple[str, ...]:
+    """The table's column names, in order."""
+    return ("CARD",) + (engine.KINEMATIC_OUTPUTS if kinematics_only else engine.RESULTS)
+
+
+# --------------------------------------------------------------------------
+# Positions of a range card
+# --------------------------------------------------------------------------
+
+
+def _exact(deck: Deck, i: int) -> tuple[Fraction, Fraction, Fraction]:
+    """Range card i as exact fractions.
+
+    The decimals punched on the card if the deck has them (``Deck.exact_ranges``);
+    for a deck built in code, each float's shortest decimal (0.1 means 1/10).
+    """
+    exact = getattr(deck, "exact_ranges", None) or []
+    if i < len(exact):
+        values = exact[i]
+    else:
+        values = tuple(Decimal(repr(float(v))) for v in deck.ranges[i])
+    return tuple(Fraction(v) for v in values)  # type: ignore[return-value]
+
+
+def count(thzero: Fraction, delta: Fraction, thmax: Fraction) -> int:
+    """Positions THZERO + k DELTA <= THMAX, k = 0, 1, ... (exact; DELTA > 0 unless empty)."""
+    if thzero > thmax:
+        return 0
+    if delta <= 0:
+        raise ValueError(f"DELTA = {float(delta):g} <= 0: the range never ends")
+    return int((thmax - thzero) // delta) + 1
+
+
+def angles(thzero: Fraction, delta: Fraction, start: int, stop: int) -> np.ndarray:
+    """THZERO + k DELTA for k in [start, stop), each the double nearest the exact value."""
+    k = np.arange(start, stop, dtype=np.int64)
+    # Both on a common decimal grid 10^-d: integers, then one correctly rounded division.
+    for d in range(0, 23):  # 10^d is an exact double up to 10^22
+        scale = 10**d
+        t0, dd = thzero * scale, delta * scale
+        if t0.denominator == 1 and dd.denominator == 1:
+            t0, dd = int(t0), int(dd)
+            if abs(t0) + abs(dd) * max(stop - 1, 0) < 2**53:
+                num = np.float64(t0) + np.float64(dd) * k.astype(np.float64)  # exact integers
+                return num / np.float64(scale)
+            break
+    # Otherwise (no short decimal grid, or huge counts): THZERO + k DELTA in doubles.
+    return float(thzero) + float(delta) * k.astype(np.float64)
+
+
+# --------------------------------------------------------------------------
+# Writers
+# --------------------------------------------------------------------------
+
+
+def _lines(card: int, block: np.ndarray, json: bool) -> Iterator[str]:
+    """Text of a chunk of rows (``block``: rows x value columns)."""
+    fr = float.__repr__
+    finite = bool(np.isfinite(block).all())
+    rows = block.tolist()
+    if json:
+        head, tail = f"[{card},", "]"
+        if finite:
+            yield ",\n".join([head + ",".join(map(fr, row)) + tail for row in rows])
+        else:
+            def num(v: float) -> str:
+                return fr(v) if v - v == 0.0 else "null"
+
+            yield ",\n".join([head + ",".join(map(num, row)) + tail for row in rows])
+    else:
+        head = f"{card},"
+        yield "".join([head + ",".join(map(fr, row)) + "\n" for row in rows])
+
+
+def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
+                warn=None) -> int:
+    """Write the table of ``deck`` on ``out``; returns the number of rows.
+
+    ``warn(text)`` receives one line per range card with no positions, and per
+    card with values that are not finite.  The caller has checked the deck
+    (:func:`sielaff.cli.endless_range`, the crank-rocker test).
+    """
+    if fmt not in FORMATS:
+        raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
+    warn = warn or (lambda text: None)
+    json = fmt == "json"
+    names = columns(kinematics_only)
+    wanted = names[1:]
+    if json:
+        out.write('{"columns": [' + ", ".join(f'"{n}"' for n in names) + '],\n"rows": [\n')
+    else:
+        out.write(",".join(names) + "\n")
+    rows = 0
+    for i, card in enumerate(deck.range_cards):
+        thzero, delta, thmax = _exact(deck, i)
+        n = count(thzero, delta, thmax)
+        if n == 0:
+            warn(f"{deck.path}: card {card}: THZERO = {float(thzero):g} > THMAX = "
+                 f"{float(thmax):g}: no positions (the 1966 program prints one sheet, "
+                 "at THZERO)")
+            continue
+        bad = 0
+        for start in range(0, n, BLOCK):
+            ath2 = angles(thzero, delta, start, min(start + BLOCK, n))
+            with np.errstate(all="ignore"):
+                result = engine.analyze(deck.mechanism, ath2, outputs=wanted)
+            block = np.empty((ath2.size, len(wanted)))
+            for j, name in enumerate(wanted):
+                block[:, j] = result[name]
+            del result
+            bad += int(np.count_nonzero(~np.isfinite(block).all(axis=1)))
+            for lo in range(0, ath2.size, CHUNK):
+                for text in _lines(card, block[lo:lo + CHUNK], json):
+                    if json and rows:
+                        out.write(",\n")
+                    out.write(text)
+                rows += min(CHUNK, ath2.size - lo)
+        if bad:
+            warn(f"{deck.path}: card {card}: {bad} of {n} positions have values that are "
+                 f"not finite (written as {'null' if json else 'nan or inf'})")
+    out.write("\n]}\n" if json and rows else "]}\n" if json else "")
+    return rows
+
+
+# --------------------------------------------------------------------------
+# The command
+# --------------------------------------------------------------------------
+
+
+def cmd_table(args: argparse.Namespace) -> int:
+    """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
+    from sielaff.cli import EXIT_NOT_CRANK_ROCKER, CommandError, _load, endless_range
+    from sielaff.mechanism import crank_rocker_failure
+    from sielaff.output import atomic_output
+
+    deck = _load(args.deck)
+    problem = endless_range(deck)
+    if problem:
+        raise CommandError(problem)
+    failure = crank_rocker_failure(deck.mechanism)
+    if failure:
+        raise CommandError(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: "
+                           f"{failure}", EXIT_NOT_CRANK_ROCKER)
+    for i, card in enumerate(deck.range_cards):
+        if count(*_exact(deck, i)) > MAX_POSITIONS:
+            thzero, delta, thmax = deck.ranges[i]
+            raise CommandError(f"{deck.path}: card {card}: THZERO = {thzero:g}, DELTA = "
+                               f"{delta:g}, THMAX = {thmax:g}: more than 2**53 positions")
+
+    def warn(text: str) -> None:
+        print(f"sielaff: warning: {text}", file=sys.stderr)
+
+    with atomic_output(args.output) as out:
+        write_table(deck, out, args.format, args.only == "kinematics", warn)
+    return 0
+

@@ -1,0 +1,257 @@
+"""``sielaff table``: the engine's results for a deck, as CSV or JSON."""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import json
+import re
+from pathlib import Path
+from unittest import mock
+
+import numpy as np
+import pytest
+
+from conftest import DECKS
+from sielaff import engine, table
+from sielaff.cards import Range, parse_deck, read_deck
+from sielaff.cli import main
+from sielaff.engine import analyze
+
+EXAMPLE_CARDS = (DECKS / "example.dat").read_text().splitlines()
+
+
+def deck_text(*ranges: str, lengths: str | None = None) -> str:
+    """The example deck with the given range cards (and optionally card 3 replaced)."""
+    cards = EXAMPLE_CARDS[:6]
+    if lengths is not None:
+        cards[2] = lengths
+    return "".join(c + "\n" for c in (*cards, *ranges))
+
+
+def card(*values: str) -> str:
+    return "".join(v.rjust(8) for v in values)
+
+
+def cli(*argv: str) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(list(argv))
+    return status, out.getvalue(), err.getvalue()
+
+
+def table_of(tmp_path: Path, text: str, *extra: str) -> tuple[int, str, str]:
+    path = tmp_path / "deck.dat"
+    path.write_text(text)
+    return cli("table", str(path), *extra)
+
+
+def read_csv(text: str) -> tuple[list[str], list[list[float]]]:
+    rows = list(csv.reader(io.StringIO(text)))
+    return rows[0], [[float(v) for v in row] for row in rows[1:]]
+
+
+# --------------------------------------------------------------------------
+# Content
+# --------------------------------------------------------------------------
+
+
+def test_example_deck_csv_is_the_engine_bit_for_bit():
+    status, out, err = cli("table", str(DECKS / "example.dat"))
+    assert status == 0 and err == ""
+    assert out.endswith("\n") and "\r" not in out
+    header, rows = read_csv(out)
+    assert header == ["CARD", *engine.RESULTS]
+    assert len(rows) == 36  # 10, 20, ..., 360: no sheet past THMAX
+    values = np.array(rows)
+    assert np.all(values[:, 0] == 7)
+    np.testing.assert_array_equal(values[:, 1], np.arange(10.0, 361.0, 10.0))
+    ref = analyze(read_deck(DECKS / "example.dat").mechanism, values[:, 1])
+    for j, name in enumerate(engine.RESULTS):
+        # repr round-trips: the text is the engine's double exactly
+        np.testing.assert_array_equal(values[:, j + 1], ref[name], err_msg=name)
+    assert out.splitlines()[1].startswith("7,10.0,")
+
+
+def test_json_holds_the_same_numbers():
+    _, out_csv, _ = cli("table", str(DECKS / "example.dat"))
+    status, out, err = cli("table", str(DECKS / "example.dat"), "--format", "json")
+    assert status == 0 and err == ""
+    doc = json.loads(out)
+    assert set(doc) == {"columns", "rows"}
+    header, rows = read_csv(out_csv)
+    assert doc["columns"] == header
+    assert doc["rows"] == rows
+    assert all(isinstance(r[0], int) for r in doc["rows"])
+
+
+def test_columns_are_documented_in_order():
+    documented = re.search(r"Columns\n(.*?)\n\n    With", table.__doc__, re.S).group(1)
+    words = [w for w in documented.split("::")[1].split()]
+    assert tuple(words) == table.columns()
+
+
+def test_positions_thzero_to_thmax_inclusive(tmp_path):
+    status, out, err = table_of(tmp_path, deck_text(card("0.0", "0.1", "1.0"),
+                                                    card("45.0", "1.0", "45.0")))
+    assert status == 0 and err == ""
+    _, rows = read_csv(out)
+    ath2 = [r[1] for r in rows]
+    # exact decimals THZERO + k DELTA, each rounded once: 0.3, not 0.30000000000000004
+    assert ath2 == [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 45.0]
+    assert "0.30000000000000004" not in out
+    assert [r[0] for r in rows] == [7] * 11 + [8]
+
+
+def test_count_is_exact():
+    F = table.Fraction
+    assert table.count(F(0), F("0.0004"), F(400)) == 1_000_001
+    assert table.count(F(0), F("0.0003"), F(1)) == 3334
+    assert table.count(F(10), F(10), F(360)) == 36
+    assert table.count(F(5), F(1), F(5)) == 1
+    assert table.count(F(6), F(1), F(5)) == 0
+    assert table.count(F(6), F(-1), F(5)) == 0
+    with pytest.raises(ValueError):
+        table.count(F(5), F(0), F(5))
+
+
+def test_angles_are_correctly_rounded():
+    F = table.Fraction
+    a = table.angles(F("0.0004"), F("0.0004"), 0, 1000)
+    assert a.tolist() == [float(table.Decimal(k + 1) * table.Decimal("0.0004"))
+                          for k in range(1000)]
+    # no short decimal grid (a deck built from binary fractions): plain doubles
+    third = F(1, 3)
+    assert table.angles(F(0), third, 0, 4).tolist() == [0.0, 1 / 3, 2 / 3, 1.0]
+
+
+def test_deck_built_in_code_reads_its_floats_as_decimals():
+    deck = read_deck(DECKS / "example.dat")
+    deck.exact_ranges = []
+    deck.ranges = [Range(0.0, 0.1, 1.0)]
+    buf = io.StringIO()
+    assert table.write_table(deck, buf) == 11  # not 10: 0.1 means one tenth
+
+
+def test_thzero_past_thmax_gives_no_rows_and_a_warning(tmp_path):
+    status, out, err = table_of(tmp_path, deck_text(card("20.0", "10.0", "10.0"),
+                                                    card("30.0", "-5.0", "0.0")))
+    assert status == 0
+    assert out == ",".join(table.columns()) + "\n"
+    lines = err.splitlines()
+    assert len(lines) == 2 and all(x.startswith("sielaff: warning: ") for x in lines)
+    assert "card 7: THZERO = 20 > THMAX = 10: no positions" in lines[0]
+    assert "card 8:" in lines[1]
+    status, out, err = table_of(tmp_path, deck_text(card("20.0", "10.0", "10.0")),
+                                "--format", "json")
+    assert json.loads(out) == {"columns": list(table.columns()), "rows": []}
+
+
+@pytest.mark.parametrize("delta", ["0.0", "-1.0"])
+def test_endless_range_is_refused(tmp_path, delta):
+    out_path = tmp_path / "t.csv"
+    out_path.write_text("old\n")
+    status, out, err = table_of(tmp_path, deck_text(card("10.0", "10.0", "20.0"),
+                                                    card("10.0", delta, "360.0")),
+                                "-o", str(out_path))
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1
+    assert "card 8, columns 9-16: DELTA" in err and "never end" in err
+    assert out_path.read_text() == "old\n"
+
+
+def test_not_a_crank_rocker_exits_3_naming_card_3(tmp_path):
+    out_path = tmp_path / "t.csv"
+    status, out, err = table_of(tmp_path, deck_text(card("10.0", "10.0", "20.0"),
+                                                    lengths=card("12.0", "4.0", "3.0", "12.0")),
+                                "-o", str(out_path))
+    assert status == 3 and out == ""
+    assert err.count("\n") == 1
+    assert err.startswith(f"{tmp_path / 'deck.dat'}: card 3: THIS IS NOT A CRANK ROCKER")
+    assert not out_path.exists()
+
+
+def test_non_finite_values_are_null_in_json_and_warned(tmp_path):
+    # TH2D = 1E98: accelerations ~1E198, inertia forces overflow
+    text = deck_text(card("10.0", "10.0", "30.0")).replace(
+        EXAMPLE_CARDS[5], card("1.0E98"))
+    status, out, err = table_of(tmp_path, text, "--format", "json")
+    assert status == 0
+    doc = json.loads(out)
+    assert any(v is None for row in doc["rows"] for v in row)
+    assert err.startswith("sielaff: warning: ") and "3 of 3 positions" in err
+    assert err.count("\n") == 1
+    status, out, _ = table_of(tmp_path, text)
+    assert "inf" in out or "nan" in out
+
+
+def test_output_file_is_written_atomically(tmp_path):
+    out_path = tmp_path / "t.csv"
+    status, out, err = cli("table", str(DECKS / "example.dat"), "-o", str(out_path))
+    assert status == 0 and out == "" and err == ""
+    assert out_path.read_text() == cli("table", str(DECKS / "example.dat"))[1]
+    with mock.patch.object(table, "_lines", side_effect=RuntimeError("disk on fire")), \
+            pytest.raises(RuntimeError):
+        cli("table", str(DECKS / "example.dat"), "-o", str(out_path), "--format", "json")
+    assert out_path.read_text().startswith("CARD,ATH2,")  # the old file survived
+    assert [p.name for p in tmp_path.iterdir()] == ["t.csv"]
+
+
+@pytest.mark.parametrize("fmt", ["csv", "json"])
+def test_blocks_and_chunks_do_not_change_the_text(tmp_path, fmt):
+    text = deck_text(card("0.0", "7.0", "360.0"), card("-30.0", "2.5", "30.0"))
+    path = tmp_path / "deck.dat"
+    path.write_text(text)
+    _, whole, _ = cli("table", str(path), "--format", fmt)
+    with mock.patch.object(table, "BLOCK", 7), mock.patch.object(table, "CHUNK", 3):
+        _, pieces, _ = cli("table", str(path), "--format", fmt)
+    assert pieces == whole
+    if fmt == "json":
+        assert len(json.loads(whole)["rows"]) == 52 + 25
+
+
+# --------------------------------------------------------------------------
+# "Only what you ask": --only kinematics never runs the force code
+# --------------------------------------------------------------------------
+
+FORCE_STEPS = ("_force_link4", "_force_link3", "_force_link2")
+
+
+def forbid_forces():
+    stack = contextlib.ExitStack()
+    for name in FORCE_STEPS:
+        stack.enter_context(mock.patch.object(
+            engine, name, side_effect=AssertionError(f"{name} ran")))
+    return stack
+
+
+def test_only_kinematics_never_runs_the_force_code(tmp_path):
+    engine.STEP_CALLS.clear()
+    with forbid_forces():
+        status, out, err = cli("table", str(DECKS / "example.dat"), "--only", "kinematics")
+    assert status == 0 and err == ""
+    header, rows = read_csv(out)
+    assert header == ["CARD", *engine.KINEMATIC_OUTPUTS]
+    assert "TORQ" not in header and "FA32" not in header and "TEX" not in header
+    assert len(rows) == 36
+    ran = set(engine.STEP_CALLS)
+    assert ran and not any(s.startswith(("_force", "_inertia", "_total", "_external"))
+                           for s in ran), ran
+    # the same values as the full table's columns
+    full_header, full_rows = read_csv(cli("table", str(DECKS / "example.dat"))[1])
+    for j, name in enumerate(header):
+        k = full_header.index(name)
+        assert [r[j] for r in rows] == [r[k] for r in full_rows], name
+
+
+def test_the_force_guard_does_bite():
+    """Without --only the same patches make the table fail: the guard is live."""
+    with forbid_forces(), pytest.raises(AssertionError, match="ran"):
+        table.write_table(parse_deck(deck_text(card("10.0", "10.0", "20.0"))), io.StringIO())
+
+
+def test_more_positions_than_doubles_can_tell_apart_is_refused(tmp_path):
+    status, out, err = table_of(tmp_path, deck_text(card("0.0", "1.0E-50", "360.0")))
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and "card 7:" in err and "more than 2**53 positions" in err
