@@ -194,3 +194,23 @@ def test_kinematics_only_drops_statements_133_to_202_and_their_writes(example_de
             "SHAK", "SHAKX", "SHAKY", "DSHAK", "TORQ"}
         assert all(k.fields[n].text == f.fields[n].text for n in k.fields)
 
+
+
+def test_not_a_crank_rocker_stops_before_an_endless_range_would_loop(tmp_path, capsys):
+    """The 1966 program tests the linkage before it loops: exit 3, not the DELTA refusal."""
+    from sielaff.cli import main
+
+    bad = tmp_path / "bad.dat"
+    bad.write_text(_deck(r1=30.0, ranges=((10.0, 0.0, 360.0),)))
+    assert main(["run", str(bad)]) == 3
+    out, err = capsys.readouterr()
+    assert out == " THIS IS NOT A CRANK ROCKER MECHANISM\n"
+    assert "card 3" in err and "DELTA" not in err
+    endless = tmp_path / "endless.dat"
+    endless.write_text(_deck(ranges=((10.0, 0.0, 360.0),)))
+    for command in (["run"], ["table"], ["plot", "-o", str(tmp_path / "plots")]):
+        assert main([*command[:1], str(endless), *command[1:]]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "card 7, columns 9-16" in err and "never end" in err
+    assert main(["table", str(bad)]) == 3
+    assert capsys.readouterr().err.startswith(f"{bad}: card 3: THIS IS NOT A CRANK ROCKER")

@@ -477,8 +477,10 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
     if failure is not None:
+        from sielaff.cli import not_a_crank_rocker
+
         rep.status = EXIT_NOT_CRANK_ROCKER
-        rep.error = f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}"
+        rep.error = not_a_crank_rocker(deck)
         rep.add("Verdict: not a crank-rocker; the 1966 program stops at statement 52 (exit 3)")
     elif reason is not None:
         rep.status = EXIT_UNUSABLE

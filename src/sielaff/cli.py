@@ -61,19 +61,47 @@ def _load(path: str) -> Deck:
     return deck
 
 
+def not_a_crank_rocker(deck: Deck) -> str | None:
+    """The one-line refusal naming card 3 and the failed condition, or None."""
+    from sielaff.mechanism import crank_rocker_failure
+
+    failure = crank_rocker_failure(deck.mechanism)
+    if failure is None:
+        return None
+    return f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}"
+
+
+def load_runnable(path: str) -> Deck:
+    """A deck for the emulator: refused at once if a range would never end.
+
+    A deck that is not a crank-rocker is let through: the 1966 program prints
+    its message and stops before it ever loops.
+    """
+    deck = _load(path)
+    problem = endless_range(deck)
+    if problem and not_a_crank_rocker(deck) is None:
+        raise CommandError(problem)
+    return deck
+
+
+def load_for_engine(path: str) -> Deck:
+    """A deck for the modern engine: a crank-rocker (else exit 3) whose ranges all end."""
+    deck = load_runnable(path)
+    message = not_a_crank_rocker(deck)
+    if message:
+        raise CommandError(message, EXIT_NOT_CRANK_ROCKER)
+    return deck
+
+
 # -- run --------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.emulator import notice_printer, run
-    from sielaff.mechanism import crank_rocker_failure
     from sielaff.output import atomic_output
     from sielaff.printer import AsaRenderer
     from sielaff.program import NotCrankRocker, ProgramError, SheetLimit
     from sielaff.progress import run_progress
 
-    deck = _load(args.deck)
-    problem = endless_range(deck)
-    if problem:
-        raise CommandError(problem)
+    deck = load_runnable(args.deck)
     bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
     notice = bar.wrap(notice_printer(sys.stderr))
     status = 0
@@ -85,9 +113,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                     kinematics_only=args.kinematics_only, max_sheets=args.max_sheets,
                     progress=bar)
         except NotCrankRocker:
-            failure = crank_rocker_failure(deck.mechanism)
-            print(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
-                  file=sys.stderr)
+            print(not_a_crank_rocker(deck), file=sys.stderr)
             status = EXIT_NOT_CRANK_ROCKER
         except SheetLimit as limit:
             print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "

@@ -498,18 +498,13 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.cli import EXIT_NOT_CRANK_ROCKER, CommandError, _load
-    from sielaff.mechanism import crank_rocker_failure
+    from sielaff.cli import CommandError, load_for_engine
 
     try:
         _pyplot()
     except ImportError as exc:
         raise CommandError(f"sielaff: {exc}") from None
-    deck = _load(args.deck)
-    failure = crank_rocker_failure(deck.mechanism)
-    if failure:
-        raise CommandError(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: "
-                           f"{failure}", EXIT_NOT_CRANK_ROCKER)
+    deck = load_for_engine(args.deck)
     for path in write_plots(deck, args.output, args.only):
         print(path)
     sys.stdout.flush()

@@ -210,18 +210,10 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
-    from sielaff.cli import EXIT_NOT_CRANK_ROCKER, CommandError, _load, endless_range
-    from sielaff.mechanism import crank_rocker_failure
+    from sielaff.cli import CommandError, load_for_engine
     from sielaff.output import atomic_output
 
-    deck = _load(args.deck)
-    problem = endless_range(deck)
-    if problem:
-        raise CommandError(problem)
-    failure = crank_rocker_failure(deck.mechanism)
-    if failure:
-        raise CommandError(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: "
-                           f"{failure}", EXIT_NOT_CRANK_ROCKER)
+    deck = load_for_engine(args.deck)
     for i, card in enumerate(deck.range_cards):
         if count(*_exact(deck, i)) > MAX_POSITIONS:
             thzero, delta, thmax = deck.ranges[i]
