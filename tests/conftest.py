@@ -6,6 +6,12 @@ import io
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+# CI machines are shared and noisy: time bounds belong in benchmarks, not in
+# hypothesis's per-example deadline.
+settings.register_profile("sielaff", deadline=None)
+settings.load_profile("sielaff")
 
 ROOT = Path(__file__).resolve().parents[1]
 DECKS = ROOT / "decks"
