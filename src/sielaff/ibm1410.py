@@ -384,8 +384,7 @@ def _make_class(K: int) -> type:
         return NotImplemented
 
     # ----- the four operations on raw (mantissa, exponent) pairs -----------------
-    # The operators below repeat these bodies inline (a call costs as much as the
-    # arithmetic); the library works on the pairs directly.
+    # The operators call these; the library works on the pairs directly.
     def add(ma: int, ea: int, mb: int, eb: int) -> tuple[int, int]:
         if ea < eb:
             ma, ea, mb, eb = mb, eb, ma, ea
@@ -512,31 +511,7 @@ def _make_class(K: int) -> type:
                 return sm, se
             if recursive:
                 pm, pe = tm, te
-            # s = s -/+ t: align, drop the shifted-out digits, add, normalise
-            ma, ea, mb, eb = sm, se, (-tm if minus else tm), te
-            if ea < eb:
-                ma, ea, mb, eb = mb, eb, ma, ea
-            d = ea - eb
-            if d:
-                if d >= K:
-                    mb = 0
-                elif mb >= 0:
-                    mb //= P[d]
-                else:
-                    mb = -(-mb // P[d])
-            r = ma + mb
-            if -LO < r < LO:
-                if r == 0:
-                    ea = EMIN
-                else:
-                    while -LO < r < LO:
-                        r *= 10
-                        ea -= 1
-                    if ea < EMIN:
-                        r, ea = 0, EMIN
-            elif r >= HI or r <= -HI:
-                r = r // 10 if r > 0 else -(-r // 10)
-                ea += 1
+            r, ea = add(sm, se, -tm if minus else tm, te)  # s = s -/+ t
             if r == sm and ea == se:
                 return sm, se
             sm, se = r, ea
@@ -594,34 +569,10 @@ def _make_class(K: int) -> type:
                 b = conv(b)
             if b is NotImplemented:
                 return b
-        ma, ea, mb, eb = a.m, a.e, b.m, b.e
-        if ea < eb:
-            ma, ea, mb, eb = mb, eb, ma, ea
-        d = ea - eb
-        if d:
-            if d >= K:
-                mb = 0
-            elif mb >= 0:
-                mb //= P[d]
-            else:
-                mb = -(-mb // P[d])
-        r = ma + mb
-        if -LO < r < LO:
-            if r == 0:
-                return ZERO
-            while -LO < r < LO:
-                r *= 10
-                ea -= 1
-            if ea < EMIN:
-                return ZERO
-        elif r >= HI or r <= -HI:
-            r = r // 10 if r > 0 else -(-r // 10)
-            ea += 1
-            if ea > EMAX:
-                raise overflow("addition", ea)
+        r, e = add(a.m, a.e, b.m, b.e)
         x = new(cls)
         x.m = r
-        x.e = ea
+        x.e = e
         return x
 
     def __sub__(a, b):
@@ -632,34 +583,10 @@ def _make_class(K: int) -> type:
                 b = conv(b)
             if b is NotImplemented:
                 return b
-        ma, ea, mb, eb = a.m, a.e, -b.m, b.e
-        if ea < eb:
-            ma, ea, mb, eb = mb, eb, ma, ea
-        d = ea - eb
-        if d:
-            if d >= K:
-                mb = 0
-            elif mb >= 0:
-                mb //= P[d]
-            else:
-                mb = -(-mb // P[d])
-        r = ma + mb
-        if -LO < r < LO:
-            if r == 0:
-                return ZERO
-            while -LO < r < LO:
-                r *= 10
-                ea -= 1
-            if ea < EMIN:
-                return ZERO
-        elif r >= HI or r <= -HI:
-            r = r // 10 if r > 0 else -(-r // 10)
-            ea += 1
-            if ea > EMAX:
-                raise overflow("subtraction", ea)
+        r, e = add(a.m, a.e, -b.m, b.e)
         x = new(cls)
         x.m = r
-        x.e = ea
+        x.e = e
         return x
 
     def __rsub__(a, b):
