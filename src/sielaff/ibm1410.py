@@ -465,9 +465,9 @@ def _make_class(K: int) -> type:
                 mb *= PW[eb - ea]
         return (ma > mb) - (ma < mb)
 
-    # ----- library inner loops: the same operations, written inline -------------------
-    # Specialised to a positive term t, x2 and divisors d (callers pass |argument|;
-    # the sign-magnitude arithmetic is exactly odd-symmetric).  The arguments are
+    # ----- library inner loops, on raw pairs ---------------------------------------------
+    # For a positive term t, x2 and divisors d (callers pass |argument|; the
+    # sign-magnitude arithmetic is exactly odd-symmetric).  The arguments are
     # reduced (|r| < 2), so nothing can overflow.  Each returns the sum once adding
     # the next term leaves it unchanged, or None when the divisor table ran out.
     def series_sum(sm: int, se: int, pm: int, pe: int, rm: int, re: int, divs,
@@ -477,37 +477,16 @@ def _make_class(K: int) -> type:
         recursive:   t = t * x2 / d         (SIN, COS: d = (2k)(2k+1) or (2k-1)(2k))
         otherwise:   p = p * x2, t = p / d  (ATAN: d = 2k+1)
         """
-        q = rm * rm  # x2 = r * r
-        if q == 0:
-            return sm, se
-        x2e = re + re
-        if q >= PROD_HI:
-            x2m = q // HI
-        else:
-            x2m = q // LO
-            x2e -= 1
-        if x2e < EMIN:
+        x2m, x2e = mul(rm, re, rm, re)  # x2 = r * r
+        if x2m == 0:
             return sm, se
         minus = True
         for dm, de in divs:
-            q = pm * x2m  # p = p * x2 (truncated to K digits)
-            if q == 0:
+            pm, pe = mul(pm, pe, x2m, x2e)  # p = p * x2
+            if pm == 0:
                 return sm, se
-            pe += x2e
-            if q >= PROD_HI:
-                pm = q // HI
-            else:
-                pm = q // LO
-                pe -= 1
-            if pe < EMIN:
-                return sm, se
-            if pm >= dm:  # t = p / d (truncated)
-                tm = pm * LO // dm
-                te = pe - de + 1
-            else:
-                tm = pm * HI // dm
-                te = pe - de
-            if te < EMIN:
+            tm, te = div(pm, pe, dm, de)  # t = p / d
+            if tm == 0:
                 return sm, se
             if recursive:
                 pm, pe = tm, te
@@ -526,35 +505,9 @@ def _make_class(K: int) -> type:
         return the smallest y; None if that did not happen within ``steps`` steps.
         """
         for i in range(steps):
-            if xm >= ym:  # q = x / y
-                qm = xm * LO // ym
-                qe = xe - ye + 1
-            else:
-                qm = xm * HI // ym
-                qe = xe - ye
-            if qe < EMIN:
-                qm, qe = 0, EMIN
-            elif qe > EMAX:
-                raise overflow("SQRT (division)", qe)
-            if ye >= qe:  # s = y + q: align, drop, add (both positive)
-                sm, se = ym, ye
-                d = ye - qe
-                r = sm + (qm if d == 0 else 0 if d >= K else qm // P[d])
-            else:
-                sm, se = qm, qe
-                d = qe - ye
-                r = sm + (0 if d >= K else ym // P[d])
-            if r >= HI:
-                r //= 10
-                se += 1
-                if se > EMAX:
-                    raise overflow("SQRT (addition)", se)
-            r *= HALF_M  # y1 = s * 0.5
-            if r >= PROD_HI:
-                r //= HI
-            else:
-                r //= LO
-                se -= 1
+            qm, qe = div(xm, xe, ym, ye)  # q = x / y
+            sm, se = add(ym, ye, qm, qe)  # s = y + q
+            r, se = mul(sm, se, HALF_M, 0)  # y1 = s * 0.5
             if falling and i and (se > ye or (se == ye and r >= ym)):
                 return ym, ye
             ym, ye = r, se
