@@ -44,3 +44,14 @@ def example_listing(example_deck) -> str:
     buf = io.StringIO()
     run(example_deck, buf)
     return buf.getvalue()
+
+
+def pytest_configure(config):
+    """SIELAFF_ULP_NUDGE=+1/-1: run as if on a CPU whose libm differs by an ulp."""
+    import os
+
+    nudge = os.environ.get("SIELAFF_ULP_NUDGE")
+    if nudge:
+        import ulp_nudge
+
+        ulp_nudge.install(float(nudge))

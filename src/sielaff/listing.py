@@ -134,7 +134,8 @@ def _units(got: Field, want: Field) -> str:
     g, w = got.value(), want.value()
     if g is None or w is None:
         return "not comparable"
-    n = (g - w) / want.unit()
+    # in the finer of the two last digits: .9999E 02 against .1000E 03 is 1 unit of .01
+    n = (g - w) / min(got.unit(), want.unit())
     n = n.quantize(Decimal(1)) if n == n.to_integral_value() else n.normalize()
     return f"{'+' if n > 0 else ''}{n} unit{'' if abs(n) == 1 else 's'} in the last digit"
 

@@ -91,6 +91,37 @@ def edit_f(value, w: int, d: int) -> str:
 
 _EDITORS: dict[str, Callable] = {"F": edit_f, "E": edit_e}
 
+#: How many units in the last place another machine may move a printed value.  numpy's
+#: SIMD sin/cos/arctan2 and glibc's FMA and SSE2 variants differ by an ulp or two per
+#: call, and a printed field is a few calls deep; 16 ulps (3.6E-15 relative in float64)
+#: covers that, and a value meets a printed-digit boundary that close by chance about
+#: once in 1E11 fields.
+NEARBY_ULPS = 16
+
+
+def edits_nearby(value, kind: str, w: int = 12, d: int | None = None,
+                 ulps: int = NEARBY_ULPS) -> tuple[str, ...]:
+    """Every text an Ew.d or Fw.d field prints for a value within ``ulps`` of ``value``.
+
+    ``value`` is a binary float (Python float, numpy float64 or float32: the ulps
+    are its own format's) or a decimal 1410 number (exact on every machine: one
+    text).  One text means the printed digits are certain on any CPU; two mean a
+    digit boundary lies within reach, and which side prints depends on the
+    machine's libm (``docs/accuracy.md``, "What the digits depend on").
+    """
+    edit = _EDITORS[kind]
+    d = (4 if kind == "E" else 1) if d is None else d
+    if isinstance(value, float) or type(value).__name__ in ("float64", "float32"):
+        import numpy as np
+
+        x = np.asarray(value)
+        lo, hi = x, x
+        for _ in range(ulps):
+            lo, hi = np.nextafter(lo, -np.inf), np.nextafter(hi, np.inf)
+        texts = [edit(v.item() if x.dtype == np.float64 else v[()], w, d) for v in (lo, x, hi)]
+        return tuple(dict.fromkeys(texts))
+    return (edit(value, w, d),)
+
 
 # -- the fast path ---------------------------------------------------------
 # ``edit_e`` and ``edit_f`` above are the reference.  The emulator prints
