@@ -633,8 +633,8 @@ def plot(res: dict, path: str) -> None:
             a1.scatter([t], [max(row["same_median"], 1e-17)], edgecolors=c, marker="s",
                        facecolors="none", s=50)
         dy = {"ibm1410:12": -26, "ibm1410:16": 14}.get(row["model"], 4)
-        a1.annotate(f"{row['model']}\n{row['fields']}/82 fields"
-                    + (f" (+{len(row['boundary'])} either way)" if row["boundary"] else ""), (t, row["exact_max"]),
+        either = f" (+{len(row['boundary'])} either way)" if row["boundary"] else ""
+        a1.annotate(f"{row['model']}\n{row['fields']}/82 fields{either}", (t, row["exact_max"]),
                     textcoords="offset points", xytext=(6, dy), fontsize=8, color=c)
     a1.axhline(res["models"]["algorithm_median"], color="grey", ls=":", lw=1)
     a1.text(1.0, res["models"]["algorithm_median"] * 1.4, "1966 algorithm error (median)",
