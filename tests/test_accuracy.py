@@ -238,14 +238,48 @@ def test_cycle_work_vanishes_and_coarsest_step():
     assert bench.coarsest_step(rows, 1e-8, "port_rel") is None  # the port never gets there
 
 
-def test_bench_command_writes_report_and_figure(tmp_path, monkeypatch):
+def test_bench_command_writes_report_and_figure(tmp_path, monkeypatch, capsys):
     from sielaff.cli import main
 
     monkeypatch.setattr(bench, "STEPS", (30.0, 10.0, 1.0))
-    out = tmp_path / "acc.md"
+    out = tmp_path / "new" / "folder" / "acc.md"  # folders that do not exist yet
     assert main(["bench", "--quick", "-o", str(out)]) == 0
     text = out.read_text()
-    png = tmp_path / "acc.png"
+    png = tmp_path / "new" / "folder" / "acc.png"
     assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
     assert "| ibm1410:8 | 82 |" in text and "cores, Python" in text
     assert "x float64" in text and "ARCCOS" in text and "Choosing a step" in text
+    assert "What the digits depend on" in text
+    assert sorted(p.name for p in out.parent.iterdir()) == ["acc.md", "acc.png"]  # no temps
+    table = capsys.readouterr().out
+    assert table.splitlines()[0].split()[:2] == ["model", "us/position"]
+    assert any(line.startswith("ibm1410:8") and "82 certain" in line
+               for line in table.splitlines())
+
+
+def test_bench_writes_nothing_without_o(tmp_path, monkeypatch, capsys):
+    """From an empty folder (a user's, not the checkout): a table on stdout, no file."""
+    from sielaff.cli import main
+
+    monkeypatch.setattr(bench, "STEPS", (30.0, 10.0))
+    monkeypatch.chdir(tmp_path)
+    assert main(["bench", "--quick"]) == 0
+    assert list(tmp_path.iterdir()) == []
+    assert "engine" in capsys.readouterr().out
+
+
+def test_bench_refuses_before_work(tmp_path, monkeypatch, capsys):
+    import sys
+
+    from sielaff.cli import main
+
+    monkeypatch.setattr(bench, "study", lambda *a, **k: pytest.fail("computed first"))
+    assert main(["bench", "-o", str(tmp_path)]) == 2
+    assert "is a folder" in capsys.readouterr().err
+    (tmp_path / "file").write_text("x")
+    assert main(["bench", "-o", str(tmp_path / "file" / "acc.md")]) == 2
+    assert "cannot create its folder" in capsys.readouterr().err
+    monkeypatch.setitem(sys.modules, "mpmath", None)  # as if not installed
+    assert main(["bench", "--quick"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "needs mpmath" in err and "sielaff[bench]" in err

@@ -713,10 +713,41 @@ def _e(x, digits: int = 1) -> str:
 
 
 def write_report(res: dict, path: str, figure: str | None = None, command: str = "") -> str:
-    """Write docs/accuracy.md (and the PNG next to it); returns the markdown."""
+    """Write the report (docs/accuracy.md) and its PNG beside it, both or neither (folders
+    created); returns the markdown."""
+    from sielaff.output import atomic_files
+
     if figure is None:
         figure = os.path.splitext(path)[0] + ".png"
-    plot(res, figure)
+    with atomic_files([path, figure]) as (tmp_md, tmp_png):
+        text = _report_text(res, figure, command)
+        plot(res, tmp_png)
+        with open(tmp_md, "w", encoding="utf-8") as f:
+            f.write(text)
+    return text
+
+
+def headline(res: dict) -> str:
+    """The study's headline table, for a terminal."""
+    lines = [f"{'model':<12} {'us/position':>12} {'x float64':>10} {'max error':>10}  "
+             "Figures 10-11 (of 82 fields)"]
+    rows = res["models"]["rows"]
+    f64 = next(r["us_per_position"] for r in rows if r["model"] == "float64")
+    for r in rows:
+        figures = f"{r['fields']} certain"
+        if r["diffs"]:
+            figures += f", {len(r['diffs'])} differ"
+        if r["boundary"]:
+            figures += f", {len(r['boundary'])} on a digit boundary"
+        lines.append(f"{r['model']:<12} {r['us_per_position']:>12.2f} "
+                     f"{r['us_per_position'] / f64:>10.2f} {_e(r['exact_max']):>10}  {figures}")
+    lines.append("max error: scaled, against the exact mechanics at 50 digits, over the "
+                 f"example's revolution at {res['models']['delta']:g} degree steps")
+    lines.append(f"machine: {res['machine']}; {res['seconds']:.0f} s")
+    return "\n".join(lines)
+
+
+def _report_text(res: dict, figure: str, command: str) -> str:
     m = res["models"]
     rows = {r["model"]: r for r in m["rows"]}
     ratio = rows["ibm1410:8"]["us_per_position"] / rows["float64"]["us_per_position"]
@@ -869,10 +900,7 @@ def write_report(res: dict, path: str, figure: str | None = None, command: str =
     w("For example, a designer who needs the peak driving torque to 0.1 % reads the "
       "`1e-03` row.  The port's cycle work stops improving near 1E-8 whatever the step: its "
       "angles carry the ARCCOS series error (section 3), and the torque with them.\n")
-    text = "\n".join(out)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-    return text
+    return "\n".join(out)
 
 
 _DIGITS_NOTES = """\

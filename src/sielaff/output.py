@@ -11,6 +11,17 @@ from collections.abc import Iterator
 from typing import TextIO
 
 
+def _mode_for(path: str) -> int:
+    """The permissions a replacement of ``path`` gets: the old file's, or 0666 less the
+    umask for a new one."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        umask = os.umask(0o022)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
 @contextlib.contextmanager
 def atomic_output(path: str | None, newline: str | None = None) -> Iterator[TextIO]:
     """Yield a stream for ``path`` (stdout if None or "-").
@@ -37,12 +48,7 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
             yield stream
         return
     target = os.path.realpath(path)
-    if st is not None:
-        mode = stat.S_IMODE(st.st_mode)
-    else:
-        umask = os.umask(0o022)
-        os.umask(umask)
-        mode = 0o666 & ~umask
+    mode = _mode_for(path)
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".tmp",
                                    dir=os.path.dirname(target))
@@ -57,3 +63,36 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+@contextlib.contextmanager
+def atomic_files(paths: list[str]) -> Iterator[list[str]]:
+    """Yield a temporary path for each of ``paths``; rename them all into place only when
+    the block ends without an exception (Ctrl-C and signals turned into exceptions
+    included), else remove them: several files are replaced all together or not at all.
+
+    The folders are created first, so a missing folder fails before any work is done.
+    The renames come last, one after the other, each atomic.
+    """
+    temps: list[str] = []
+    try:
+        for path in paths:
+            folder = os.path.dirname(os.path.abspath(path))
+            try:
+                os.makedirs(folder, exist_ok=True)
+                fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
+                                           suffix=".tmp" + os.path.splitext(path)[1],
+                                           dir=folder)
+            except OSError as err:
+                raise OSError(err.errno, f"cannot write ({err.strerror})", path) from None
+            os.close(fd)
+            temps.append(tmp)
+        yield list(temps)
+        for tmp, path in zip(list(temps), paths):
+            os.chmod(tmp, _mode_for(path))
+            os.replace(tmp, path)
+            temps.remove(tmp)
+    finally:
+        for tmp in temps:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
