@@ -48,8 +48,9 @@ def table_of(tmp_path: Path, text: str, *extra: str) -> tuple[int, str, str]:
 
 
 def read_csv(text: str) -> tuple[list[str], list[list[float]]]:
+    """Header names (units stripped) and rows."""
     rows = list(csv.reader(io.StringIO(text)))
-    return rows[0], [[float(v) for v in row] for row in rows[1:]]
+    return [h.split("[")[0] for h in rows[0]], [[float(v) for v in row] for row in rows[1:]]
 
 
 # --------------------------------------------------------------------------
@@ -79,11 +80,33 @@ def test_json_holds_the_same_numbers():
     status, out, err = cli("table", str(DECKS / "example.dat"), "--format", "json")
     assert status == 0 and err == ""
     doc = json.loads(out)
-    assert set(doc) == {"columns", "rows"}
+    assert set(doc) == {"columns", "units", "descriptions", "rows"}
     header, rows = read_csv(out_csv)
     assert doc["columns"] == header
     assert doc["rows"] == rows
     assert all(isinstance(r[0], int) for r in doc["rows"])
+
+
+def test_units_in_csv_header_and_json():
+    """Every column carries its unit: NAME[unit] in the CSV header, 'units' and
+    'descriptions' beside 'columns' in JSON; --header names gives bare names."""
+    _, out, _ = cli("table", str(DECKS / "example.dat"))
+    head = out.splitlines()[0].split(",")
+    assert head[0] == "CARD" and "TORQ[in-lb]" in head and "ATH3[deg]" in head
+    assert "FA32X[lb]" in head and "TH4DD[rad/sec^2]" in head and "VB[in/sec]" in head
+    assert all(re.fullmatch(r"[A-Z0-9]+\[[a-z0-9/^-]+\]", h) for h in head[1:])
+    # what pandas.read_csv does with the header: plain strings, no MultiIndex
+    assert len(set(head)) == len(head) and all("," not in h and '"' not in h for h in head)
+    _, plain, _ = cli("table", str(DECKS / "example.dat"), "--header", "names")
+    assert plain.splitlines()[0] == ",".join(table.columns())
+    assert plain.splitlines()[1:] == out.splitlines()[1:]
+    _, js, _ = cli("table", str(DECKS / "example.dat"), "--format", "json")
+    doc = json.loads(js)
+    assert len(doc["units"]) == len(doc["descriptions"]) == len(doc["columns"])
+    units = dict(zip(doc["columns"], doc["units"]))
+    assert units["TORQ"] == "in-lb" and units["GAMMA"] == "deg" and units["AG3"] == "in/sec^2"
+    described = dict(zip(doc["columns"], doc["descriptions"]))
+    assert "link 3 on link 2" in described["FA32"] and "CCW" in described["TORQ"]
 
 
 def test_columns_are_documented_in_order():
@@ -138,14 +161,15 @@ def test_thzero_past_thmax_gives_no_rows_and_a_warning(tmp_path):
     status, out, err = table_of(tmp_path, deck_text(card("20.0", "10.0", "10.0"),
                                                     card("30.0", "-5.0", "0.0")))
     assert status == 0
-    assert out == ",".join(table.columns()) + "\n"
+    assert out == table.header(table.columns()) + "\n"
     lines = err.splitlines()
     assert len(lines) == 2 and all(x.startswith("sielaff: warning: ") for x in lines)
     assert "card 7: THZERO = 20 > THMAX = 10: no positions" in lines[0]
     assert "card 8:" in lines[1]
     status, out, err = table_of(tmp_path, deck_text(card("20.0", "10.0", "10.0")),
                                 "--format", "json")
-    assert json.loads(out) == {"columns": list(table.columns()), "rows": []}
+    doc = json.loads(out)
+    assert doc["columns"] == list(table.columns()) and doc["rows"] == []
 
 
 @pytest.mark.parametrize("delta", ["0.0", "-1.0"])
@@ -194,7 +218,7 @@ def test_output_file_is_written_atomically(tmp_path):
     with mock.patch.object(table, "_lines", side_effect=RuntimeError("disk on fire")), \
             pytest.raises(RuntimeError):
         cli("table", str(DECKS / "example.dat"), "-o", str(out_path), "--format", "json")
-    assert out_path.read_text().startswith("CARD,ATH2,")  # the old file survived
+    assert out_path.read_text().startswith("CARD,ATH2[deg],")  # the old file survived
     assert [p.name for p in tmp_path.iterdir()] == ["t.csv"]
 
 

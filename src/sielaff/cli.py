@@ -265,6 +265,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: angles, velocities and accelerations; the force "
                         "analysis is not run")
+    p.add_argument("--header", choices=("units", "names"), default="units",
+                   help="CSV header: NAME[unit] (default) or the bare names; JSON always "
+                        "has 'units' and 'descriptions' beside 'columns'")
     p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
 
     p = add("diff", cmd_diff, "compare a listing with a golden printout, field by field")

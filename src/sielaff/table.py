@@ -32,15 +32,18 @@ Columns
     TEX is 0, as in the 1966 program.
 
 Formats
-    ``csv`` (default): a header row of the column names, then one line per
-    position, fields separated by commas, lines ending ``\\n``.  Numbers are
+    ``csv`` (default): a header row of the column names with their units,
+    ``NAME[unit]`` (``TORQ[in-lb]``, ``ATH3[deg]``; ``CARD`` has none), then one
+    line per position (``--header names``: the bare names), fields separated by commas, lines ending ``\\n``.  Numbers are
     written with Python's ``repr`` (the shortest decimal that reads back as
     the same double: full precision); CARD is an integer.  A value that is
     not finite (only possible for a mechanism at or past the limits of
     double precision) is written ``nan``, ``inf`` or ``-inf``.
 
-    ``json``: one object ``{"columns": [...], "rows": [[...], ...]}``, each
-    row a list in the order of ``columns`` (one row per line).  This form
+    ``json``: one object ``{"columns": [...], "units": [...], "descriptions":
+    [...], "rows": [[...], ...]}``, units and descriptions (:mod:`sielaff.quantities`)
+    aligned with ``columns``, each row a list in the order of ``columns`` (one row
+    per line).  This form
     keeps the column order explicit and costs the names once, not once per
     row.  Numbers as in the CSV; a non-finite value is ``null`` (JSON has no
     NaN).
@@ -68,7 +71,7 @@ from sielaff import engine
 from sielaff.cards import Deck
 
 __all__ = ["BLOCK", "CHUNK", "FORMATS", "MAX_POSITIONS", "columns", "count", "angles",
-           "write_table", "cmd_table"]
+           "header", "write_table", "cmd_table"]
 
 #: Positions per engine call.
 BLOCK = 100_000
@@ -153,8 +156,18 @@ def _lines(card: int, block: np.ndarray, json: bool) -> Iterator[str]:
         yield "".join([head + ",".join(map(fr, row)) + "\n" for row in rows])
 
 
+def header(names: tuple[str, ...], units: bool = True) -> str:
+    """The CSV header row: ``NAME[unit]`` for each column (``CARD`` has none), or the bare
+    names with ``units=False``.  pandas.read_csv reads either as plain column names."""
+    from sielaff.quantities import unit
+
+    if not units:
+        return ",".join(names)
+    return ",".join(n if n == "CARD" else f"{n}[{unit(n)}]" for n in names)
+
+
 def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
-                warn=None) -> int:
+                warn=None, units: bool = True) -> int:
     """Write the table of ``deck`` on ``out``; returns the number of rows.
 
     ``warn(text)`` receives one line per range card with no positions, and per
@@ -168,9 +181,18 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     names = columns(kinematics_only)
     wanted = names[1:]
     if json:
-        out.write('{"columns": [' + ", ".join(f'"{n}"' for n in names) + '],\n"rows": [\n')
+        import json as json_module
+
+        from sielaff.quantities import describe, unit
+
+        def strings(items) -> str:
+            return json_module.dumps(list(items))
+
+        out.write('{"columns": ' + strings(names) + ',\n"units": '
+                  + strings(unit(n) for n in names) + ',\n"descriptions": '
+                  + strings(describe(n) for n in names) + ',\n"rows": [\n')
     else:
-        out.write(",".join(names) + "\n")
+        out.write(header(names, units) + "\n")
     rows = 0
     for i, card in enumerate(deck.range_cards):
         thzero, delta, thmax = _exact(deck, i)
@@ -224,6 +246,7 @@ def cmd_table(args: argparse.Namespace) -> int:
         print(f"sielaff: warning: {text}", file=sys.stderr)
 
     with atomic_output(args.output) as out:
-        write_table(deck, out, args.format, args.only == "kinematics", warn)
+        write_table(deck, out, args.format, args.only == "kinematics", warn,
+                    units=getattr(args, "header", "units") == "units")
     return 0
 
