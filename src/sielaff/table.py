@@ -34,9 +34,10 @@ Columns
 Formats
     ``csv`` (default): a header row of the column names with their units,
     ``NAME[unit]`` (``TORQ[in-lb]``, ``ATH3[deg]``; ``CARD`` has none), then one
-    line per position (``--header names``: the bare names), fields separated by commas, lines ending ``\\n``.  Numbers are
-    written with Python's ``repr`` (the shortest decimal that reads back as
-    the same double: full precision); CARD is an integer.  A value that is
+    line per position (``--header names``: the bare names), fields separated
+    by commas, lines ending ``\\n``.  Numbers are written with Python's
+    ``repr`` (the shortest decimal that reads back as the same double: full
+    precision); CARD is an integer.  A value that is
     not finite (only possible for a mechanism at or past the limits of
     double precision) is written ``nan``, ``inf`` or ``-inf``.
 
