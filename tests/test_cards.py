@@ -416,3 +416,65 @@ def test_deck_round_trip(values: list[Decimal]) -> None:
     assert list(d.exact.values()) == values[:17]
     assert d.mechanism.as_tuple() == tuple(float(v) for v in values[:17])
     assert d.ranges == [tuple(float(v) for v in values[17:])]
+
+
+# ----- the F8.4 trap: fields with no decimal point that look unintended ---------------------
+def _trap_deck(*cards: str) -> str:
+    good = ["     3.0     8.0     6.0", "     0.0     0.5     0.4",
+            "    12.0     4.0    16.0    12.0", "     0.0   -15.0    15.0",
+            "     2.0     8.0     6.0", "    50.0", "    10.0    10.0   360.0"]
+    for text in cards:
+        n, line = text.split(":", 1)
+        good[int(n) - 1] = line
+    return "\n".join(good) + "\n"
+
+
+def _traps(deck):
+    return [w for w in deck.warnings if "no decimal point" in w]
+
+
+def test_example_deck_has_no_trap_warnings(example_deck):
+    assert example_deck.warnings == []
+
+
+@pytest.mark.parametrize("cards, expected", [
+    # the issue's deck: every length typed as a right-justified integer
+    (["3:      10       2       9       6"],
+     ['card 3, columns 1-8: "      10": no decimal point: read as 0.0010 (F8.4 implies '
+      '4 decimals); did you mean 10.0?', "columns 9-16", "columns 17-24", "columns 25-32"]),
+    # the range card typed in whole degrees: 0.001 to 0.036 degrees, 36 sheets of nothing
+    (["7:      10      10     360"],
+     ["card 7, columns 1-8", "card 7, columns 9-16",
+      'card 7, columns 17-24: "     360": no decimal point: read as 0.0360 (F8.4 implies 4 '
+      'decimals); did you mean 360.0?']),
+    # one forgotten point among good fields: crank speed 50 rad/sec read as 0.005
+    (["6:      50"], ["card 6, columns 1-8"]),
+    # a centre of mass typed as an integer, and a negative ADEL likewise
+    (["5:     2.0       8     6.0", "4:     0.0     -15    15.0"],
+     ['card 4, columns 9-16: "     -15": no decimal point: read as -0.0015 (F8.4 implies 4 '
+      'decimals); did you mean -15.0?', "card 5, columns 9-16"]),
+])
+def test_mistyped_integers_are_warned_about(cards, expected):
+    deck = parse_deck(_trap_deck(*cards), "d.dat")
+    traps = _traps(deck)
+    assert len(traps) == len(expected)
+    for warning, want in zip(traps, expected):
+        assert warning.startswith("d.dat: card ") and want in warning
+
+
+@pytest.mark.parametrize("field", ["   30000", "  120000", " 3600000", "    3.0 ", "   3.E0 ",
+                                   "     0.5", "        ", "       0", "   1.5+2"])
+def test_deliberate_fields_are_not_warned_about(field):
+    """Implied decimals for a value of 1 or more (how 1960s decks punched 3.0 as 30000),
+    explicit points, exponents and zeros are taken as meant."""
+    deck = parse_deck(_trap_deck(f"1:{field}     8.0     6.0"), "d.dat")
+    assert _traps(deck) == []
+
+
+def test_check_verdict_mentions_the_trap(tmp_path):
+    from sielaff.check import check_deck
+
+    deck = parse_deck(_trap_deck("3:      10       2       9       6"), "d.dat")
+    text = check_deck(deck).text
+    assert "Verdict: usable as read, but 4 fields without a decimal point" in text
+    assert "did you mean 10.0?" in text

@@ -178,6 +178,27 @@ def read_field(text: str, d: int = DIGITS) -> float:
     return float(read_field_decimal(text, d)) + 0.0  # + 0.0 turns -0.0 into 0.0
 
 
+def _implied_decimal_trap(chars: str, value: Decimal) -> str | None:
+    """The warning for an F8.4 field whose implied decimals look unintended, or None.
+
+    The classic mistake is an integer typed right-justified with no decimal point
+    (``"      10"`` for 10.0): FORTRAN reads it with 4 implied decimals, as 0.0010.
+    The rule: no decimal point, no exponent, not zero, and the value reads below 1.
+    A deliberate implied-decimal entry, as 1960s decks punched them, is usually a
+    value of 1 or more (``"   30000"`` for 3.0, ``"  120000"`` for 12.0) and is not
+    flagged; a deliberate one below 1 (``"    5000"`` for 0.5) gets the warning,
+    which says how it was read, and the deck still runs.
+    """
+    body = chars.strip(" ")
+    if not value or "." in body or any(c in body for c in "EeDd") or "+" in body[1:] \
+            or "-" in body[1:] or abs(value) >= 1:
+        return None
+    digits = body.lstrip("+-").replace(" ", "0")
+    meant = f"{'-' if value < 0 else ''}{int(digits)}.0"
+    return (f"no decimal point: read as {value:f} (F8.4 implies 4 decimals); "
+            f"did you mean {meant}?")
+
+
 def _card_decimals(text: str, n: int, card_no: int, path: str,
                    warnings: list[str] | None = None) -> list[Decimal]:
     text = text.ljust(COLUMNS)
@@ -190,6 +211,8 @@ def _card_decimals(text: str, n: int, card_no: int, path: str,
         except ValueError as err:
             raise DeckError(path, str(err), card_no, columns, text) from None
         values.append(value)
+        if warnings is not None and (trap := _implied_decimal_trap(chars, value)):
+            warnings.append(str(DeckError(path, trap, card_no, columns, text)))
         if warnings is not None and " " in chars.lstrip(" "):
             try:
                 packed = read_field_decimal(chars.replace(" ", "").rjust(WIDTH))

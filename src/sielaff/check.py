@@ -487,7 +487,13 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
         rep.error = reason
         rep.add("Verdict: unusable: sielaff run cannot complete this deck (exit 2)")
     else:
-        rep.add("Verdict: usable")
+        traps = sum("no decimal point: read as" in w for w in deck.warnings)
+        if traps:
+            rep.add(f"Verdict: usable as read, but {traps} field{'s' if traps > 1 else ''} "
+                    "without a decimal point read with 4 implied decimals (warnings above): "
+                    "make sure that was meant")
+        else:
+            rep.add("Verdict: usable")
     return rep
 
 
