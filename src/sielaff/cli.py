@@ -110,7 +110,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         try:
             with bar:
                 run(deck, stream, arithmetic=args.arith, notice=notice,
-                    kinematics_only=args.kinematics_only, max_sheets=args.max_sheets,
+                    kinematics_only=args.kinematics_only or args.only == "kinematics",
+                    max_sheets=args.max_sheets,
                     progress=bar)
         except NotCrankRocker:
             print(not_a_crank_rocker(deck), file=sys.stderr)
@@ -221,24 +222,46 @@ EXAMPLES = {
     "plot": "example:\n  sielaff plot decks/example.dat -o plots\n"
             "  sielaff plot decks/example.dat -o plots --only kinematics",
     "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
+    "help": "example:\n  sielaff help deck",
+    "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md",
 }
 
 
+def cmd_help(args: argparse.Namespace) -> int:
+    from sielaff.helptext import TOPICS, topic_list
+
+    if args.topic is None:
+        print(topic_list())
+        return 0
+    if args.topic not in TOPICS:
+        raise CommandError(f"sielaff: no help topic {args.topic!r} "
+                           f"({', '.join(TOPICS)})")
+    print(TOPICS[args.topic][1])
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
+    from sielaff import __version__
+    from sielaff.helptext import EXIT_STATUS, topic_list
+    from sielaff.quantities import CONVENTIONS
+
     parser = argparse.ArgumentParser(
         prog="sielaff",
         description="Sielaff's 1966 crank-rocker program: faithful IBM 1410 emulator "
-                    "and modern analysis engine.",
+                    "and modern analysis engine.  A deck is 80-column cards of "
+                    "FORMAT(4F8.4): sielaff help deck.",
         epilog="example:\n  sielaff run decks/example.dat | head -60\n"
                "  sielaff check decks/example.dat\n"
-               "  sielaff plot decks/example.dat -o plots",
+               "  sielaff plot decks/example.dat -o plots\n\n"
+               f"{topic_list()}\n\n{CONVENTIONS}\n\n{EXIT_STATUS}",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--debug", action="store_true", help="show tracebacks on failure")
+    parser.add_argument("--version", action="version", version=f"sielaff {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def add(name: str, func: Callable, help_text: str) -> argparse.ArgumentParser:
-        p = sub.add_parser(name, help=help_text, description=help_text,
-                           epilog=EXAMPLES.get(name),
+        epilog = (EXAMPLES[name] + "\n\n" if name in EXAMPLES else "") + EXIT_STATUS
+        p = sub.add_parser(name, help=help_text, description=help_text, epilog=epilog,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                        help="show tracebacks on failure")
@@ -251,9 +274,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--render", action="store_true",
                    help="plain text with form feeds instead of ASA records")
     p.add_argument("--arith", default="float64", metavar="MODEL",
-                   help="number model: float64 (default), float32, ibm1410[:K]")
+                   help="number model: float64 (default), float32, ibm1410[:K] (the 1410's "
+                        "K-digit truncating decimal arithmetic, K = 8 by default): "
+                        "sielaff help arith")
     p.add_argument("--kinematics-only", action="store_true",
                    help="drop statements 133-202 and their WRITEs, as the report describes")
+    p.add_argument("--only", choices=("kinematics",),
+                   help="kinematics: the same as --kinematics-only (as for table and plot)")
     p.add_argument("--max-sheets", type=sheet_count, metavar="N",
                    help="stop cleanly after N sheets (a warning says so)")
 
@@ -292,6 +319,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="directory for the PNG files (created if needed)")
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: velocity and acceleration curves instead of the forces")
+
+    p = add("help", cmd_help, "help on a topic: deck (the card layout and units), "
+            "conventions, arith, exit")
+    p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
 
     p = add("punch", cmd_punch, "punch an 80-column deck from a TOML spec with names and units "
             "(see decks/example.toml)")

@@ -1,0 +1,93 @@
+"""``sielaff help TOPIC``: what an engineer needs without the README.
+
+Each topic is plain text; ``sielaff help`` lists them.  The exit statuses are
+stated here once and every command's ``--help`` ends with them.
+"""
+
+from __future__ import annotations
+
+from sielaff.quantities import CONVENTIONS
+
+#: The exit status of every command, the same everywhere.
+EXIT_STATUS = """\
+exit status (every command):
+  0    done; for check: the deck is usable
+  1    diff: the listings differ
+  2    bad input or output: a deck, spec or option that cannot be used (one line
+       names the card and columns, or the field), a range that never ends, an
+       output file that cannot be written
+  3    not a crank-rocker (run prints the 1966 message; table, check, plot refuse)
+  130  interrupted (Ctrl-C); no output file was changed"""
+
+#: The report's example deck, as decks/example.dat has it (a test checks they agree).
+EXAMPLE_CARDS = """\
+     3.0     8.0     6.0
+     0.0     0.5     0.4
+    12.0     4.0    16.0    12.0
+     0.0   -15.0    15.0
+     2.0     8.0     6.0
+    50.0
+    10.0    10.0   360.0"""
+
+DECK = f"""\
+A deck is a text file of 80-column cards, one card per line, read with the
+1966 program's FORMAT(4F8.4): four 8-column number fields in columns 1-8, 9-16,
+17-24 and 25-32; columns 33-80 are not read (73-80 often hold a sequence number).
+
+Type every number right-justified in its field WITH a decimal point ("    12.0").
+A field with no decimal point has 4 implied decimals: "      12" reads as 0.0012
+(a warning names the card and columns); "   30000" reads as 3.0.
+
+card  columns 1-8   9-16        17-24       25-32
+  1   W2  lb        W3  lb      W4  lb                  weights of links 2, 3, 4
+  2   ZI2           ZI3         ZI4                     moments of inertia about each
+                                                        link's G, in-lb-sec^2
+  3   R1  in        R2  in      R3  in      R4  in      frame O2-O4, crank O2-A,
+                                                        coupler A-B, rocker O4-B
+  4   ADEL2 deg     ADEL3 deg   ADEL4 deg               angle from the link's line to
+                                                        its G, CCW +
+  5   RG2 in        RG3 in      RG4 in                  distance O2-G2, A-G3, O4-G4
+  6   TH2D rad/sec                                      crank speed, constant, CCW +
+  7+  THZERO deg    DELTA deg   THMAX deg               a range card: one sheet at
+                                                        THETA 2 = THZERO, THZERO +
+                                                        DELTA, ... (as many range
+                                                        cards as you like)
+
+The 1966 program needs a crank-rocker: with A = R3/R2, B = R4/R2, C = R1/R2,
+A > 1, B > 1, C > 1, C < A + B - 1 and C > |B - A| + 1.  `sielaff check DECK`
+prints each condition with its margin.  The 1966 loop also prints one sheet past
+THMAX (docs/quirks.md).
+
+The report's example (decks/example.dat in the source tree; save these seven
+lines as example.dat to run it anywhere):
+
+{EXAMPLE_CARDS}
+
+`sielaff punch SPEC.toml` writes a deck from named values with units."""
+
+ARITH = """\
+--arith MODEL: the number model the 1966 port runs on (sielaff run):
+  float64        IEEE double precision (the default)
+  float32        IEEE single precision
+  ibm1410[:K]    the IBM 1410's decimal floating point: K significant decimal
+                 digits, truncated after every operation (never rounded), exponent
+                 -99..99.  K = 8, the default, is the 1410 FORTRAN's (manual
+                 C28-0328-3) and reproduces all 82 printed fields of the report's
+                 Figures 10 and 11; K may be 3 to 40, to see how the 1966 numbers
+                 converge as digits are added.
+  ibm1410:K,VARIANT
+                 another reconstruction of the lost 1410 library (SIN, COS, ATAN,
+                 SQRT), e.g. ibm1410:8,taylor; docs/accuracy.md lists them."""
+
+TOPICS = {
+    "deck": ("the card deck: layout, fields, units, the example", DECK),
+    "conventions": ("frame, angles, signs, which body each force acts on, units",
+                    CONVENTIONS),
+    "arith": ("the number models of --arith, and the K of ibm1410[:K]", ARITH),
+    "exit": ("exit statuses, the same for every command", EXIT_STATUS),
+}
+
+
+def topic_list() -> str:
+    return "help topics (sielaff help TOPIC):\n" + "\n".join(
+        f"  {name:<12} {summary}" for name, (summary, _) in TOPICS.items())
