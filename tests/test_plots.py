@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import subprocess
 import sys
 
@@ -55,10 +57,37 @@ def test_figures(data):
 def test_sampling_every_degree_whatever_delta():
     for delta in (10.0, 30.0, 90.0, 0.25):
         th = sample_angles(deck_with((10.0, delta, 360.0)))
-        assert th[0] == 10.0 and th[-1] == 360.0
+        # 10 to 360 by DELTA >= 10 samples a whole revolution: drawn from 0 to 360
+        assert (th[0], th[-1]) == ((0.0 if delta >= 10.0 else 10.0), 360.0)
         assert np.all(np.diff(th) > 0) and np.max(np.diff(th)) <= 1.0
         if delta < 1.0:
             assert np.max(np.diff(th)) <= delta + 1e-12
+
+
+@pytest.mark.parametrize("card, span", [
+    ((10.0, 10.0, 360.0), (0.0, 360.0)),     # the example: ends on a multiple of 360
+    ((0.0, 5.0, 355.0), (0.0, 360.0)),       # starts on one
+    ((-180.0, 5.0, 175.0), (-180.0, 180.0)),  # neither: a revolution from THZERO
+    ((0.0, 10.0, 340.0), (0.0, 340.0)),      # not a whole revolution: drawn as it is
+    ((0.0, 10.0, 720.0), (0.0, 720.0)),      # two revolutions: as it is
+])
+def test_whole_revolution_decks_close(card, span):
+    """A deck that samples a whole revolution gives closed polar curves and a torque curve
+    over the whole revolution (the example's most negative torque is at 359 degrees)."""
+    deck = deck_with(card)
+    th = sample_angles(deck)
+    assert (th[0], th[-1]) == span
+    d = plot_data(deck)
+    closed = (span[1] - span[0]) % 360.0 == 0.0
+    for fig in d.values():
+        if fig.kind == "polar":
+            x0, x1 = (fig.r[i] * np.cos(np.radians(fig.theta[i])) for i in (0, -1))
+            y0, y1 = (fig.r[i] * np.sin(np.radians(fig.theta[i])) for i in (0, -1))
+            assert (math.hypot(x1 - x0, y1 - y0) < 1e-9 * np.nanmax(fig.r)) == closed
+    if span[1] - span[0] == 360.0:
+        torq = d["fig12-driving-torque"].series["driving torque TORQ"]
+        low = analyze(deck.mechanism, np.arange(0.0, 360.0, 0.25), ["TORQ"])["TORQ"].min()
+        assert np.nanmin(torq) <= low + 1e-6 * abs(low)
 
 
 def test_sampling_several_cards():
@@ -114,7 +143,7 @@ def test_polar_figures_match_engine(data, name, mag, direction, relative):
     np.testing.assert_allclose(y, ref[mag + "Y"], atol=1e-9 * np.max(d.r))
     assert d.link_outline == relative
     # THETA 2 marks every 30 degrees, where the curve is at those angles.
-    np.testing.assert_array_equal(d.marks, np.arange(30.0, 361.0, 30.0))
+    np.testing.assert_array_equal(d.marks, np.arange(0.0, 361.0, 30.0))
     m = analyze(EXAMPLE, d.marks, [mag, direction, "ATH4"])
     np.testing.assert_allclose(d.mark_r, m[mag], rtol=1e-12)
     want = np.mod(m[direction] - (m["ATH4"] if relative else 0.0), 360.0)
@@ -244,3 +273,61 @@ def test_plot_help_shows_example():
     r = subprocess.run([sys.executable, "-m", "sielaff", "plot", "--help"],
                        capture_output=True, text=True, check=True)
     assert "example:\n  sielaff plot decks/example.dat -o plots" in r.stdout
+
+
+OVERLAP_DECKS = [
+    ((10.0, 10.0, 360.0),),                                  # the example
+    ((0.0, 10.0, 90.0), (45.0, 5.0, 120.0), (200.0, 10.0, 220.0)),  # pieces
+    ((30.0, 30.0, 30.0),),                                   # one position
+    ((0.0, 1.0, 720.0),),                                    # two revolutions
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cards", OVERLAP_DECKS)
+@pytest.mark.parametrize("mechanism", ["example", "long-rocker"])
+def test_no_two_labels_overlap(cards, mechanism):
+    """Through matplotlib's renderer: no two text boxes of any figure intersect (titles,
+    tick and ring labels, THETA 2 marks, legend entries)."""
+    from sielaff import plots
+
+    deck = deck_with(*cards)
+    if mechanism == "long-rocker":
+        import dataclasses
+
+        deck = dataclasses.replace(deck, mechanism=dataclasses.replace(
+            EXAMPLE, R1=10.0, R3=11.0, R4=9.0, RG3=5.5, RG4=4.5))
+    plt = plots._pyplot()
+    for only in (None, "kinematics"):
+        for d in plot_data(deck, only).values():
+            fig = plots._draw_polar(plt, d) if d.kind == "polar" else plots._draw_line(plt, d)
+            try:
+                boxes = plots.text_boxes(fig)
+                assert len(boxes) > 8
+                assert plots.overlapping(boxes) == [], d.name
+            finally:
+                plt.close(fig)
+
+
+def test_overlap_detector_detects():
+    from sielaff import plots
+
+    plt = plots._pyplot()
+    fig, ax = plt.subplots()
+    ax.text(0.5, 0.5, "one")
+    ax.text(0.5, 0.5, "two")
+    try:
+        assert ("one", "two") in plots.overlapping(plots.text_boxes(fig))
+    finally:
+        plt.close(fig)
+
+
+def test_help_names_every_figure_file():
+    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", "--help"],
+                       capture_output=True, text=True)
+    text = " ".join(r.stdout.split())
+    deck = read_deck(DECKS / "example.dat")
+    for only in (None, "kinematics"):
+        for d in plot_data(deck, only).values():
+            assert d.filename in text
+    assert "Figures 12, 13, 14 and 16" in text and "15 and 17" in text

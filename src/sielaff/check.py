@@ -190,6 +190,15 @@ def revolution(step: float = GRID_STEP) -> np.ndarray:
     return np.linspace(0.0, 360.0, n + 1)
 
 
+def work_text(work: float, abs_work: float) -> str:
+    """The cycle work as a reader should see it: roundoff is shown as zero, with its bound,
+    so the text does not depend on the last bits of a CPU's libm."""
+    bound = 1e-12 * max(abs_work, 1.0)
+    if abs(work) <= bound:
+        return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
+    return f"{work:.3g} in-lb"
+
+
 def cycle_work(mechanism: Mechanism, step: float = GRID_STEP) -> tuple[float, float]:
     """(integral of TORQ, integral of |TORQ|) d(THETA 2) over one revolution, in-lb.
 
@@ -355,7 +364,8 @@ def _revolution_section(m: Mechanism, rep: CheckReport) -> None:
             f"= {peak * abs(m.TH2D) / 6600.0:.3g} hp")
     work, abs_work = cycle_work(m)
     ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
-    rep.add(f"  cycle work, integral of TORQ d(THETA 2) over a revolution: {work:.3g} in-lb")
+    rep.add("  cycle work, integral of TORQ d(THETA 2) over a revolution: "
+            + work_text(work, abs_work))
     rep.add(f"    (integral of |TORQ|: {abs_work:.1f} in-lb): "
             + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
     at, shak = _extreme(m, "SHAK")

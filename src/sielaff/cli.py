@@ -313,7 +313,13 @@ def build_parser() -> argparse.ArgumentParser:
             "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
     p.add_argument("deck")
 
-    p = add("plot", cmd_plot, "the report's figures (12-16) as PNG files, from the modern engine")
+    p = add("plot", cmd_plot, "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
+            "diagrams of the other two bearings (the report's 15 and 17, captions lost), "
+            "from the modern engine: fig12-driving-torque.png, fig13-force-4-on-1.png, "
+            "fig14-force-3-on-4-rel-link4.png, fig16-shaking-force.png, force-2-on-1.png, "
+            "force-3-on-2.png; with --only kinematics: kin-link-angles.png, "
+            "kin-angular-velocity.png, kin-angular-acceleration.png, kin-pin-velocity.png, "
+            "kin-pin-acceleration.png")
     p.add_argument("deck")
     p.add_argument("-o", "--output", required=True, metavar="DIR",
                    help="directory for the PNG files (created if needed)")

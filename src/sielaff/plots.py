@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sielaff.cards import Deck
-from sielaff.check import cycle_work
+from sielaff.check import cycle_work, work_text
 from sielaff.engine import analyze
 
 __all__ = ["STEP", "PlotData", "plot_data", "render", "sample_angles", "write_plots"]
@@ -100,20 +100,35 @@ class PlotData:
 
 
 def _intervals(deck: Deck) -> list[tuple[float, float, float]]:
-    """Merged (start, stop, step) intervals of the deck's range cards."""
+    """Merged (start, stop, step) intervals of the deck's range cards.
+
+    A range that samples a whole revolution at its DELTA (THMAX - THZERO + DELTA >= 360,
+    as the example's 10 to 360 by 10) is drawn over the whole revolution, so polar curves
+    close and the torque curve has no gap: from a multiple of 360 at either end if there
+    is one (the example: 0 to 360), else from THZERO.
+    """
     spans = []
     for thzero, delta, thmax in deck.ranges:
         step = min(STEP, delta) if delta > 0 else STEP
-        spans.append((thzero, max(thzero, thmax), step))
+        spans.append((thzero, max(thzero, thmax), step, max(delta, 0.0)))
     spans.sort()
     merged: list[list[float]] = []
-    for a, b, step in spans:
+    for a, b, step, delta in spans:
         if merged and a <= merged[-1][1]:
             merged[-1][1] = max(merged[-1][1], b)
             merged[-1][2] = min(merged[-1][2], step)
+            merged[-1][3] = max(merged[-1][3], delta)
         else:
-            merged.append([a, b, step])
-    return [(a, b, s) for a, b, s in merged]
+            merged.append([a, b, step, delta])
+    out = []
+    for a, b, step, delta in merged:
+        if b - a < 360.0 <= b - a + delta + 1e-9:
+            if b % 360.0 == 0.0:
+                a = b - 360.0
+            else:
+                b = a + 360.0
+        out.append((a, b, step))
+    return out
 
 
 def _segments(deck: Deck) -> list[np.ndarray]:
@@ -242,7 +257,7 @@ def plot_data(deck: Deck, only: str | None = None) -> dict[str, PlotData]:
         "fig12-driving-torque", f"Fig. 12  Driving torque against THETA 2\n{sub}", "line",
         ath2, XLABEL, "driving torque TORQ (in-lb)", series={"driving torque TORQ": v["TORQ"]},
         zero_line=True,
-        notes=[f"cycle work \u222e TORQ d\u03b8\u2082 = {work:.2g} in-lb"
+        notes=[f"cycle work \u222e TORQ d\u03b8\u2082 = {work_text(work, abs_work)}"
                f"\n(\u222e |TORQ| d\u03b8\u2082 = {abs_work:.0f} in-lb)"])
     pts = _deck_points(deck)
     if pts is not None:
@@ -307,8 +322,8 @@ def _draw_line(plt, d: PlotData):
     ax.set_ylabel(d.ylabel)
     ax.set_title(d.title, fontsize=11)
     ax.grid(True, color="0.85", lw=0.6)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, frameon=False,
-              fontsize=9)
+    # outside the axes, in room the constrained layout reserves: clear of every tick label
+    fig.legend(loc="outside lower center", ncol=3, frameon=False, fontsize=9)
     return fig
 
 
@@ -333,23 +348,27 @@ def _mark_groups(d: PlotData) -> list[tuple[str, float, float]]:
     return [("/".join(f"{v:g}" for v in g[0]), math.radians(g[1]), g[2]) for g in groups]
 
 
-def _place_labels(marks, curve_xy: np.ndarray,
-                  obstacles=()) -> list[tuple[float, float, bool]]:
+def _place_labels(marks, curve_xy: np.ndarray, obstacles=(),
+                  sizes=None) -> list[tuple[float, float, bool]]:
     """Pixel offsets (dx, dy, leader?) for labels of ``marks`` [(text, x px, y px)].
 
     Each label goes where it overlaps no other label, ``obstacles`` box or
     mark and as little of the curve as possible, preferably close to its
-    mark and outward.
+    mark and outward.  ``sizes`` are the labels' (width, height) in pixels as
+    the renderer measures them (estimated from the font size if not given).
     """
-    h = _LABEL_PT * _POLAR_DPI / 72.0 + 2.0
     placed: list[tuple[float, float, float, float]] = list(obstacles)  # x0, y0, x1, y1
     dots = np.array([(x, y) for _, x, y in marks]).reshape(-1, 2)
     out = []
-    for text, x, y in marks:
-        w = 0.62 * h * len(text) + 4.0
+    for k_mark, (text, x, y) in enumerate(marks):
+        if sizes is not None:
+            w, h = sizes[k_mark][0] + 4.0, sizes[k_mark][1] + 3.0
+        else:
+            h = _LABEL_PT * _POLAR_DPI / 72.0 + 2.0
+            w = 0.62 * h * len(text) + 4.0
         outward = math.atan2(y, x) if math.hypot(x, y) > 1 else math.pi / 4
         best = None
-        for dist in (7.0, 14.0, 24.0, 36.0):
+        for dist in (7.0, 14.0, 24.0, 36.0, 52.0, 72.0):
             for k in range(16):
                 phi = outward + k * math.pi / 8
                 ext = 0.5 * w * abs(math.cos(phi)) + 0.5 * h * abs(math.sin(phi))
@@ -370,6 +389,47 @@ def _place_labels(marks, curve_xy: np.ndarray,
         placed.append(box)
         out.append((dx, dy, dist > 10))
     return out
+
+
+def text_boxes(fig) -> list[tuple[str, tuple[float, float, float, float]]]:
+    """Every visible, non-empty text of ``fig`` with its box in display pixels
+    (x0, y0, x1, y1), as the renderer draws it: titles, tick labels, legend entries,
+    annotations.  The tests check that no two of them intersect."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    from matplotlib.text import Text
+
+    # Ticks outside the view limits keep a label that is never drawn: leave those out.
+    seen, out = set(), []
+    for ax in fig.axes:
+        try:  # matplotlib's own list of the ticks it draws (private, since 3.x)
+            axes_axes = list(ax._axis_map.values())
+            drawn = {id(t) for axis in axes_axes for t in axis._update_ticks()}
+        except AttributeError:  # pragma: no cover - a matplotlib without it: count all
+            continue
+        for axis in axes_axes:
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if id(tick) not in drawn:
+                    seen.update((id(tick.label1), id(tick.label2)))
+
+    for t in fig.findobj(Text):  # Text and Annotation; a legend's TextArea holds a Text
+        if id(t) in seen or not t.get_visible() or not str(t.get_text()).strip():
+            continue
+        seen.add(id(t))
+        bb = Text.get_window_extent(t, renderer)  # an annotation's text, not its leader
+        if bb.width > 0 and bb.height > 0:
+            out.append((str(t.get_text()), (bb.x0, bb.y0, bb.x1, bb.y1)))
+    return out
+
+
+def overlapping(boxes) -> list[tuple[str, str]]:
+    """Pairs of texts whose boxes intersect."""
+    pairs = []
+    for i, (ta, a) in enumerate(boxes):
+        for tb, b in boxes[i + 1:]:
+            if a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]:
+                pairs.append((ta, tb))
+    return pairs
 
 
 def _rlabel_angle(th: np.ndarray, r: np.ndarray) -> float:
@@ -421,20 +481,9 @@ def _draw_polar(plt, d: PlotData):
     else:
         ring_angle = _rlabel_angle(th, d.r)
     ax.set_rlabel_position(ring_angle)
-    rings = []  # the ring labels' boxes, so no mark label covers them
-    ca, sa = math.cos(math.radians(ring_angle)), math.sin(math.radians(ring_angle))
-    for v in ax.get_yticks():
-        if 0 < v <= rlim:
-            w = 0.62 * 11.0 * len(f"{v:g} lb") + 4.0
-            x, y = v * scale * ca, v * scale * sa
-            rings.append((x - w / 2, y - 8.0, x + w / 2, y + 8.0))
-    to_pt = 72.0 / _POLAR_DPI
-    for (text, t, r), (dx, dy, leader) in zip(groups, _place_labels(marks, curve, rings)):
-        ax.annotate(text, (t, r), xytext=(dx * to_pt, dy * to_pt), textcoords="offset points",
-                    fontsize=_LABEL_PT, color="tab:red", zorder=5, ha="center", va="center",
-                    arrowprops=dict(arrowstyle="-", color="tab:red", lw=0.6, shrinkA=0,
-                                    shrinkB=3) if leader else None)
-    ax.yaxis.set_major_formatter(plt.FuncFormatter(lambda v, _: f"{v:g} lb"))
+    # no ring label in the outer tenth: it would reach the title or the angle labels
+    ax.yaxis.set_major_formatter(plt.FuncFormatter(
+        lambda v, _: f"{v:g} lb" if v <= 0.9 * rlim else ""))
     ax.tick_params(axis="y", labelsize=8, colors="0.3")
     ax.set_xticks(np.radians(np.arange(0, 360, 45)))
     ax.grid(True, color="0.82", lw=0.6)
@@ -445,6 +494,39 @@ def _draw_polar(plt, d: PlotData):
              ha="center", va="center", fontsize=9)
     fig.legend(loc="lower center", bbox_to_anchor=(0.5, 0.01), ncol=3, frameon=False,
                fontsize=9)
+    # Every text drawn so far (ring and angle labels, titles, legend) is an obstacle, in
+    # pixels about the polar centre, as the renderer measures it.
+    cx, cy = ax.transData.transform((0.0, 0.0))
+    static = [(b[0] - cx, b[1] - cy, b[2] - cx, b[3] - cy) for _, b in text_boxes(fig)]
+    renderer = fig.canvas.get_renderer()
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.text import Text
+
+    font = FontProperties(size=_LABEL_PT)
+    sizes = [renderer.get_text_width_height_descent(text, font, ismath=False)[:2]
+             for text, _, _ in marks]
+    to_pt = 72.0 / _POLAR_DPI
+    labels = []
+    for (text, t, r), (dx, dy, leader) in zip(groups, _place_labels(marks, curve, static,
+                                                                    sizes)):
+        labels.append(ax.annotate(
+            text, (t, r), xytext=(dx * to_pt, dy * to_pt), textcoords="offset points",
+            fontsize=_LABEL_PT, color="tab:red", zorder=5, ha="center", va="center",
+            arrowprops=dict(arrowstyle="-", color="tab:red", lw=0.6, shrinkA=0,
+                            shrinkB=3) if leader else None))
+    if overlapping(text_boxes(fig)):
+        # Rare: the estimate of a box was off.  Put the labels that collide on the curve's
+        # outside, further out, with a leader, avoiding everything measured now.
+        for label in labels:
+            others = [b for t, b in text_boxes(fig) if t != label.get_text()]
+            mine = Text.get_window_extent(label, renderer)
+            if not any(mine.x0 < b[2] and b[0] < mine.x1 and mine.y0 < b[3] and b[1] < mine.y1
+                       for b in others):
+                continue
+            k = [g[0] for g in groups].index(label.get_text())
+            boxes = [(b[0] - cx, b[1] - cy, b[2] - cx, b[3] - cy) for b in others]
+            (dx, dy, _), = _place_labels([marks[k]], curve, boxes, [sizes[k]])
+            label.set_position((dx * to_pt, dy * to_pt))
     return fig
 
 
