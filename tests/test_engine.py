@@ -639,3 +639,62 @@ def test_step_registry_is_consistent():
         if not name.endswith("=0"):
             assert set(s.needs) <= ns_available, name
         ns_available |= set(s.provides)
+
+
+# --------------------------------------------------------------------------
+# Sweeps: Mechanism.replace, positions that cannot assemble, broadcast errors
+# --------------------------------------------------------------------------
+
+
+def test_mechanism_replace():
+    m = EXAMPLE.replace(R4=13.0, W3=np.array([1.0, 2.0]))
+    assert m.R4 == 13.0 and list(m.W3) == [1.0, 2.0] and m.R1 == EXAMPLE.R1
+    assert EXAMPLE.R4 == 12.0  # a copy
+    with pytest.raises(TypeError, match="no field R5 .*fields: W2"):
+        EXAMPLE.replace(R5=1.0)
+
+
+def test_sweep_counts_positions_that_cannot_assemble():
+    # R4 = 4 cannot close near THETA 2 = 0; R4 = 30 cannot close at 0, 90 and 270
+    m = EXAMPLE.replace(R4=np.array([4.0, 12.0, 30.0])[:, None])
+    with pytest.warns(engine.AssemblyWarning, match="^4 of 12 positions cannot assemble"):
+        r = analyze(m, np.arange(0.0, 360.0, 90.0), ["TORQ", "ASSEMBLED"])
+    assert r.not_assembled == 4
+    assert r["ASSEMBLED"].dtype == bool and r["ASSEMBLED"].shape == (3, 4)
+    np.testing.assert_array_equal(np.isnan(r["TORQ"]), ~r["ASSEMBLED"])
+    assert r["ASSEMBLED"][1].all()
+
+
+def test_assembled_sweep_says_zero_and_warns_nothing():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = analyze(EXAMPLE.replace(R4=np.linspace(10.0, 14.0, 5)[:, None]),
+                    np.arange(0.0, 360.0, 10.0), ["TORQ"])
+    assert r.not_assembled == 0 and r["TORQ"].shape == (5, 36)
+    assert analyze(EXAMPLE, 10.0, ["ATH2"]).not_assembled is None  # nothing was solved
+
+
+@pytest.mark.parametrize("fields, ath2, message", [
+    ({"R4": np.ones(3), "R3": np.ones(2)}, 1.0, r"R4 \(shape \(3,\)\) with R3 \(shape \(2,\)\)"),
+    ({"R4": np.ones(3)}, np.ones(4), r"R4 \(shape \(3,\)\) with ath2 \(shape \(4,\)\)"),
+    ({"W3": np.ones((2, 3))}, np.ones(4), r"W3 \(shape \(2, 3\)\) with ath2 \(shape \(4,\)\)"),
+])
+def test_broadcast_errors_name_the_fields(fields, ath2, message):
+    with pytest.raises(ValueError, match="cannot broadcast " + message):
+        analyze(EXAMPLE.replace(**fields), ath2)
+
+
+def test_cli_turns_python_warnings_into_one_line(capsys, monkeypatch):
+    import warnings
+
+    from sielaff import cli
+
+    def noisy(args):
+        warnings.warn("something odd", RuntimeWarning, stacklevel=1)
+        return 0
+
+    monkeypatch.setattr(cli, "cmd_help", noisy)
+    assert cli.main(["help"]) == 0
+    assert capsys.readouterr().err == "sielaff: warning: something odd\n"

@@ -431,10 +431,18 @@ def test_output_to_a_special_file_is_written_in_place(tmp_path):
 
 
 def test_unwritable_output_is_one_line(tmp_path):
-    out = tmp_path / "no" / "such" / "dir.asa"
+    (tmp_path / "afile").write_text("x")
+    out = tmp_path / "afile" / "sub" / "dir.asa"  # a folder that cannot be made
     status, _, err = cli("run", str(DECKS / "example.dat"), "-o", str(out))
     assert status == 2
-    assert err == f"sielaff: {out}: cannot write (No such file or directory)\n"
+    assert err == f"sielaff: {out}: cannot write (Not a directory)\n"
+
+
+def test_missing_output_folders_are_made(tmp_path):
+    out = tmp_path / "no" / "such" / "dir.asa"
+    status, _, err = cli("run", str(DECKS / "example.dat"), "-o", str(out))
+    assert status == 0 and err.count("warning") == 0
+    assert out.read_text().count("THETA 2") == 37
 
 
 def _wait_for(predicate, timeout: float = 30.0) -> None:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 
 from sielaff.cards import Deck, DeckError, read_deck
@@ -342,6 +343,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
+    with warnings.catch_warnings():
+        # A Python warning becomes one diagnostic line, never source text and a path.
+        warnings.showwarning = _warning_line
+        return _dispatch(args, debug)
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"sielaff: warning: {message}", file=sys.stderr)
+
+
+def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     try:
         return args.func(args)
     except (DeckError, CommandError, ValueError) as exc:

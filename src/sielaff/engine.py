@@ -105,6 +105,7 @@ How the work is organised
 from __future__ import annotations
 
 import inspect
+import warnings
 from collections import Counter
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -116,10 +117,12 @@ import numpy as np
 from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism
 
 __all__ = [
+    "AssemblyWarning",
     "G",
     "KINEMATIC_OUTPUTS",
     "OUTPUTS",
     "RESULTS",
+    "Results",
     "STEP_CALLS",
     "STEPS",
     "VECTORS",
@@ -258,6 +261,12 @@ def _angle_deg(s, c):
     a *= _DEGREES  # = np.degrees, in place: a fresh array costs more than the product
     np.add(a, 360.0, out=a, where=a <= -90.0)
     return a
+
+
+@step(provides=("ASSEMBLED",), needs=("s34",))
+def _assembly(s34):
+    """True where the loop closes at this crank angle (the position exists)."""
+    return np.isfinite(s34)
 
 
 @step(provides=("ATH3", "ATH4"), needs=("c3", "s3", "c4", "s4"))
@@ -678,6 +687,51 @@ def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
     return tuple((st, skipped, tuple(d)) for (st, skipped), d in zip(order, drops, strict=True))
 
 
+class AssemblyWarning(UserWarning):
+    """Some positions of an ``analyze`` call cannot assemble: their results are NaN."""
+
+
+class Results(dict):
+    """``analyze``'s answer: ``{name: array}``, and how many positions could not assemble.
+
+    ``not_assembled`` counts the positions (elements of the broadcast shape) where the
+    loop cannot close, whose results are NaN; it is None when no position was solved
+    (inputs only).  Ask for the ``ASSEMBLED`` output for the mask itself.
+    """
+
+    not_assembled: int | None = None
+
+
+def _common_shape(named: list[tuple[str, tuple[int, ...]]]) -> tuple[int, ...]:
+    """The broadcast shape of ``named`` inputs; a ValueError naming the two that clash."""
+    try:
+        return np.broadcast_shapes(*(shape for _, shape in named))
+    except ValueError:
+        pass
+    so_far: tuple[int, ...] = ()
+    names: list[str] = []
+    for name, shape in named:
+        try:
+            so_far = np.broadcast_shapes(so_far, shape)
+        except ValueError:
+            clash = [n for n, s in named[:len(names)] if not _broadcastable(s, shape)]
+            raise ValueError(
+                f"cannot broadcast {name} (shape {shape}) with {', '.join(clash)} "
+                f"(shape {dict(named)[clash[0]]}): give the fields a sweep varies shapes "
+                "that broadcast, e.g. R4 of shape (n, 1) against ath2 of shape (m,)"
+            ) from None
+        names.append(name)
+    return so_far
+
+
+def _broadcastable(a: tuple[int, ...], b: tuple[int, ...]) -> bool:
+    try:
+        np.broadcast_shapes(a, b)
+    except ValueError:
+        return False
+    return True
+
+
 def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
     if outputs is None:
         return RESULTS
@@ -713,7 +767,7 @@ def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None
 
 
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
-            tex: Any = 0.0) -> dict[str, np.ndarray]:
+            tex: Any = 0.0) -> Results:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
 
     ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
@@ -721,18 +775,24 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     (in-lb, + CCW), a constant, an array broadcasting against ``ath2``, or a
     callable taking ATH4 in degrees.  Returns ``{name: array}`` for the wanted
     names, every array of the broadcast shape of ``ath2``, the mechanism's
-    fields and ``tex``.
+    fields and ``tex``, as a :class:`Results` whose ``not_assembled`` counts the
+    positions where the loop cannot close (their results are NaN; an
+    :class:`AssemblyWarning` says how many).  Shapes that do not broadcast are a
+    ValueError naming the fields.
     """
     wanted = _check_outputs(outputs)
     ns = _seed(mechanism, ath2, tex)
     seeded = frozenset(ns)
-    shapes = [np.shape(v) for n, v in ns.items() if n not in ("tex_fn", "ATH2")]
-    final_shape = np.broadcast_shapes(np.shape(ath2), *shapes)
-    shape = np.broadcast_shapes(ns["ATH2"].shape, *shapes)  # differs only if final is ()
+    named = [("ath2", np.shape(ath2))] + [
+        (n if n != "TEX" else "tex", np.shape(v)) for n, v in ns.items()
+        if n not in ("tex_fn", "ATH2")]
+    final_shape = _common_shape(named)
+    shape = np.broadcast_shapes(ns["ATH2"].shape, final_shape)  # differs only if final is ()
     # Crank angles of the full shape make every derived array full-shaped, so the
     # steps may update arrays in place with mechanism fields of any shape.
     ns["ATH2"] = np.broadcast_to(ns["ATH2"], shape)
     order = _plan(wanted, seeded, _zero_seeds(ns))
+    not_assembled: int | None = None
 
     module = globals()
     for st, skipped, drop in order:
@@ -747,10 +807,19 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
                 result = (result,)
             for name, value in zip(st.provides, result, strict=True):
                 ns[name] = value
+            if "s34" in st.provides:  # where the loop cannot close, s34 is NaN
+                not_assembled = int(np.count_nonzero(np.isnan(ns["s34"])))
         for name in drop:
             del ns[name]
 
-    out: dict[str, np.ndarray] = {}
+    out = Results()
+    if not_assembled is not None:
+        out.not_assembled = not_assembled
+        if not_assembled:
+            total = int(np.prod(shape))
+            warnings.warn(f"{not_assembled} of {total} positions cannot assemble (the loop "
+                          "does not close there): their results are NaN; ask for the "
+                          "ASSEMBLED output for the mask", AssemblyWarning, stacklevel=2)
     seen: set[int] = set()
     for name in wanted:
         v = ns[name]

@@ -30,6 +30,7 @@ may be a numpy array that broadcasts against the crank angles.
 from __future__ import annotations
 
 from dataclasses import astuple, dataclass, fields
+from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 FIELD_NAMES = (
@@ -72,6 +73,15 @@ class Mechanism:
     RG3: Any
     RG4: Any
     TH2D: Any
+
+    def replace(self, **fields: Any) -> Mechanism:
+        """A copy with some fields changed: ``EXAMPLE.replace(R4=np.linspace(10, 14, 5)[:, None])``
+        makes a design sweep (each field may be an array; see the README)."""
+        unknown = sorted(set(fields) - set(FIELD_NAMES))
+        if unknown:
+            raise TypeError(f"Mechanism has no field {', '.join(unknown)} "
+                            f"(fields: {' '.join(FIELD_NAMES)})")
+        return dataclasses_replace(self, **fields)
 
     def as_tuple(self) -> tuple:
         return astuple(self)

@@ -31,6 +31,7 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
     existing file survives any failure, Ctrl-C included.  The new file gets
     the old file's permissions (a new one: 0666 less the umask), and a
     symbolic link is followed, so the file it points to is the one replaced.
+    A missing folder on the way is created.
 
     A path that exists and is not a regular file (``/dev/null``, a named
     pipe, a terminal) cannot be replaced and is written in place.
@@ -41,7 +42,7 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
         return
     try:
         st = os.stat(path)  # follows links: /dev/stdout is the pipe or terminal it names
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         st = None
     if st is not None and not stat.S_ISREG(st.st_mode):
         with open(path, "w", newline=newline, buffering=1 << 16) as stream:
@@ -50,6 +51,7 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
     target = os.path.realpath(path)
     mode = _mode_for(path)
     try:
+        os.makedirs(os.path.dirname(target), exist_ok=True)  # -o out/x.asa makes out/
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".tmp",
                                    dir=os.path.dirname(target))
     except OSError as err:  # name the file asked for, not the temporary one

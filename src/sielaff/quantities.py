@@ -55,6 +55,7 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TEX": ("in-lb", "external torque on link 4, CCW + (0 in the 1966 program)"),
     "TORQ": ("in-lb", "driving torque the drive puts on the crank, CCW +"),
     "SHAKM": ("in-lb", "shaking moment on the frame about O2, CCW +"),
+    "ASSEMBLED": ("-", "True where the loop closes at this crank angle (the position exists)"),
     "TI3": ("in-lb", "inertia torque of link 3, -ZI3 TH3DD"),
     "TI4": ("in-lb", "inertia torque of link 4, -ZI4 TH4DD"),
     "TP2": ("in-lb", "driving torque for link 3's inertia alone (superposition)"),
