@@ -310,7 +310,9 @@ def test_exact_toggle_positions_are_found():
 
 def test_non_assemblable_positions_are_nan():
     m = dataclasses.replace(EXAMPLE, R3=5.0, R4=8.0)  # R3 + R4 < ZL = 16 at 180 degrees
-    r = analyze(m, np.array([0.0, 180.0]), ["ATH3", "TORQ"])
+    with pytest.warns(engine.AssemblyWarning, match="^1 of 2 positions"):
+        r = analyze(m, np.array([0.0, 180.0]), ["ATH3", "TORQ"])
+    assert r.not_assembled == 1
     assert np.isfinite(r["ATH3"][0]) and np.isnan(r["ATH3"][1]) and np.isnan(r["TORQ"][1])
 
 
