@@ -30,7 +30,8 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from conftest import DECKS
-from sielaff.cli import endless_range, main
+from sielaff.cli import main
+from sielaff.common import range_problem
 from sielaff.printer import Format, Unprintable, _strict_value, edit_e, edit_f, fast_editor
 
 EXAMPLE = (DECKS / "example.dat").read_text().splitlines()
@@ -213,9 +214,30 @@ def test_subprocess_binary_deck(tmp_path):
 
 # ------------------------------------------------------- the 1966 arithmetic
 
-def test_r2_zero_names_the_statement_and_the_card(tmp_path):
+def test_r2_zero_is_refused_by_the_shared_validation_naming_the_card(tmp_path):
     line = fails(tmp_path, cards((3, "    12.0     0.0    16.0    12.0")))
-    assert line == f"{tmp_path / 'deck.dat'}: division by zero in A=R3/R2 (R2 = 0 on card 3)"
+    assert line == (f"{tmp_path / 'deck.dat'}: card 3: R2 = 0 in: the link lengths R1-R4 "
+                    "must be positive")
+
+
+@pytest.mark.parametrize("arith, start", [
+    ("float64", "division by zero"),
+    ("ibm1410", "IBM 1410 floating-point division by zero"),
+])
+def test_the_port_itself_names_the_statement_dividing_by_r2_zero(tmp_path, arith, start):
+    """Past the commands' validation, the emulator still says where the 1966 program
+    divides by zero (for decks built in code)."""
+    import io
+
+    from sielaff.cards import read_deck
+    from sielaff.emulator import run
+    from sielaff.program import ProgramError
+
+    deck = read_deck(write_deck(tmp_path, cards((3, "    12.0     0.0    16.0    12.0"))))
+    with pytest.raises(ProgramError) as exc:
+        run(deck, io.StringIO(), arithmetic=arith)
+    assert str(exc.value).startswith(start)
+    assert str(exc.value).endswith(" in A=R3/R2 (R2 = 0 on card 3)")
 
 
 @pytest.mark.parametrize("th2d, name, value", [
@@ -266,8 +288,6 @@ def test_underflow_prints_as_the_1410_zero(tmp_path):
 
 @pytest.mark.parametrize("card, start, end", [
     ((6, "  1.E+50"), "IBM 1410 floating-point overflow", " in SQ2D=TH2D*TH2D"),
-    ((3, "    12.0     0.0    16.0    12.0"), "IBM 1410 floating-point division by zero",
-     " in A=R3/R2 (R2 = 0 on card 3)"),
 ])
 def test_ibm1410_arithmetic_failure_names_the_statement(tmp_path, card, start, end):
     line = fails(tmp_path, cards(card), "--arith", "ibm1410")
@@ -323,7 +343,7 @@ def test_negative_delta_past_thmax_is_one_sheet(tmp_path):
     path = write_deck(tmp_path, cards((7, "    20.0   -10.0    10.0")))
     from sielaff.cards import read_deck
 
-    assert endless_range(read_deck(path)) is None
+    assert range_problem(read_deck(path)) is None
     status, out, _ = cli("run", path)
     assert status == 0 and out.count("THETA 2") == 1
 

@@ -196,18 +196,33 @@ def test_not_a_crank_rocker_exits_3_naming_card_3(tmp_path):
     assert not out_path.exists()
 
 
-def test_non_finite_values_are_null_in_json_and_warned(tmp_path):
-    # TH2D = 1E98: accelerations ~1E198, inertia forces overflow
-    text = deck_text(card("10.0", "10.0", "30.0")).replace(
-        EXAMPLE_CARDS[5], card("1.0E98"))
+def test_results_past_the_1410_range_are_refused_like_run(tmp_path):
+    """TH2D = 1E98: accelerations ~1E198; run stops there (exit 2), and so does table."""
+    text = deck_text(card("10.0", "10.0", "30.0")).replace(EXAMPLE_CARDS[5], card("1.0E98"))
     status, out, err = table_of(tmp_path, text, "--format", "json")
-    assert status == 0
-    doc = json.loads(out)
+    assert (status, out) == (2, "") and err.count("\n") == 1
+    assert "card 6: TH2D = 1e+98 rad/sec" in err and "past the IBM 1410's range" in err
+    path = tmp_path / "deck.dat"
+    assert cli("run", str(path))[0] == cli("check", str(path))[0] == 2
+
+
+def test_non_finite_values_are_null_in_json_and_warned():
+    """The writer itself (for decks built in code): null in JSON, nan/inf in CSV, a warning."""
+    import dataclasses
+    import io
+
+    deck = read_deck(DECKS / "example.dat")
+    deck = dataclasses.replace(deck, mechanism=deck.mechanism.replace(TH2D=1e160),
+                               ranges=[(10.0, 10.0, 30.0)], exact_ranges=[])
+    warnings_ = []
+    out = io.StringIO()
+    table.write_table(deck, out, "json", warn=warnings_.append)
+    doc = json.loads(out.getvalue())
     assert any(v is None for row in doc["rows"] for v in row)
-    assert err.startswith("sielaff: warning: ") and "3 of 3 positions" in err
-    assert err.count("\n") == 1
-    status, out, _ = table_of(tmp_path, text)
-    assert "inf" in out or "nan" in out
+    assert len(warnings_) == 1 and "3 of 3 positions" in warnings_[0]
+    out = io.StringIO()
+    table.write_table(deck, out, "csv")
+    assert "inf" in out.getvalue() or "nan" in out.getvalue()
 
 
 def test_output_file_is_written_atomically(tmp_path):
@@ -278,4 +293,5 @@ def test_the_force_guard_does_bite():
 def test_more_positions_than_doubles_can_tell_apart_is_refused(tmp_path):
     status, out, err = table_of(tmp_path, deck_text(card("0.0", "1.0E-50", "360.0")))
     assert status == 2 and out == ""
-    assert err.count("\n") == 1 and "card 7:" in err and "more than 2**53 positions" in err
+    assert err.count("\n") == 1 and "card 7, columns 1-24:" in err
+    assert "3.60E52 sheets, past the ceiling of 10,000,000" in err

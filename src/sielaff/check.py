@@ -51,7 +51,10 @@ __all__ = [
     "range_sheets", "revolution",
 ]
 
-EXIT_OK, EXIT_UNUSABLE, EXIT_NOT_CRANK_ROCKER = 0, 2, 3
+from sielaff.common import EXIT_DECK as EXIT_UNUSABLE  # noqa: E402
+from sielaff.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
+
+EXIT_OK = 0
 
 #: The port is run on at most this many sheets to find the quirks that need it.
 SHEET_LIMIT = 10_000
@@ -275,7 +278,7 @@ def _exact_ranges(deck: Deck) -> list[tuple]:
     return [tuple(r) for r in deck.ranges]
 
 
-def _linkage_section(m: Mechanism, rep: CheckReport) -> str | None:
+def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) -> str | None:
     rep.add("Linkage")
     links = sorted(("R1", "R2", "R3", "R4"), key=lambda n: getattr(m, n))
     s, p, q, lng = (getattr(m, n) for n in links)
@@ -299,7 +302,7 @@ def _linkage_section(m: Mechanism, rep: CheckReport) -> str | None:
         rep.add(f"  shortest link: {names} = {_plain(s)} in, so {kinds[shortest[0]]}")
     else:
         rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} in")
-    failure = crank_rocker_failure(m)
+    failure = crank_rocker_failure(m, exact)
     if not m.R2 > 0:
         rep.add(f"  crank-rocker conditions: {failure}")
         return failure
@@ -399,7 +402,7 @@ class _NullSink:
 def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
                    sheet_limit: int) -> str | None:
     """The quirks; returns the one-line reason if the deck is unusable."""
-    from sielaff.cli import endless_range
+    from sielaff.common import range_problem
 
     rep.add("1966 quirks this deck triggers in sielaff run")
     rep.add("  (docs/quirks.md; the modern engine has none of them)")
@@ -433,8 +436,9 @@ def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
                 quirks.append(f"{where}: {n:,} sheet{'s' if n > 1 else ''} {text}: {at}; "
                               f"{'their' if n > 1 else 'its'} THETA 3, THETA 4 and all that "
                               "follows are not the mechanism's")
-    reason = endless_range(deck)
-    if reason is None and crank_rocker_failure(deck.mechanism) is None:
+    problem = range_problem(deck)
+    reason = None if problem is None else str(problem)
+    if reason is None and crank_rocker_failure(deck.mechanism, deck.exact) is None:
         reason = _run_port(deck, sheets, quirks, sheet_limit)
     for q in quirks:
         rep.lines.extend(textwrap.wrap(q, 96, initial_indent="  ", subsequent_indent="    ",
@@ -473,28 +477,42 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
 
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     """The report for ``deck`` (see the module doc)."""
+    from sielaff.common import mechanism_problem, results_problem
+
     rep = CheckReport()
     rep.add(f"sielaff check: {deck.path}")
     rep.add()
     sheets = [range_sheets(*r) for r in deck.ranges]
     _deck_section(deck, rep, sheets)
     rep.add()
-    failure = _linkage_section(deck.mechanism, rep)
+    problem = mechanism_problem(deck)
+    if problem is not None and problem.status == EXIT_UNUSABLE:
+        rep.status, rep.error = problem.status, str(problem)
+        rep.add(f"Verdict: unusable: {str(problem).split(': ', 1)[1]} (exit 2)")
+        return rep
+    failure = _linkage_section(deck.mechanism, rep, deck.exact)
     rep.add()
+    overflow = None
     if failure is None:
-        _revolution_section(deck.mechanism, rep)
-        rep.add()
+        overflow = results_problem(deck)
+        if overflow is None:
+            _revolution_section(deck.mechanism, rep)
+            rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
     if failure is not None:
-        from sielaff.cli import not_a_crank_rocker
-
         rep.status = EXIT_NOT_CRANK_ROCKER
-        rep.error = not_a_crank_rocker(deck)
-        rep.add("Verdict: not a crank-rocker; the 1966 program stops at statement 52 (exit 3)")
-    elif reason is not None:
+        rep.error = str(problem)
+        if _program_test_passes(deck.mechanism):
+            rep.add("Verdict: not a crank-rocker (exit 3), although the 1966 program's own "
+                    "test passes by roundoff: sielaff run prints sheets whose forces near the "
+                    "toggle are meaningless")
+        else:
+            rep.add("Verdict: not a crank-rocker; the 1966 program stops at statement 52 "
+                    "(exit 3)")
+    elif reason is not None or overflow is not None:
         rep.status = EXIT_UNUSABLE
-        rep.error = reason
+        rep.error = reason or str(overflow)
         rep.add("Verdict: unusable: sielaff run cannot complete this deck (exit 2)")
     else:
         traps = sum("no decimal point: read as" in w for w in deck.warnings)
@@ -507,19 +525,24 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     return rep
 
 
+def _program_test_passes(m: Mechanism) -> bool:
+    """The 1966 test of statements 45-51 as the float64 port evaluates it."""
+    A, B, C = m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2
+    return A > 1.0 and B > 1.0 and C > 1.0 and C < A + B - 1.0 and C > abs(B - A) + 1.0
+
+
 def cmd_check(args) -> int:
     """``sielaff check DECK``: the report on stdout, the reason for a non-zero exit on stderr."""
     import os
     import sys
 
     from sielaff.cards import read_deck
-    from sielaff.cli import CommandError
+    from sielaff.common import CommandError, write_stdout
 
-    if not os.path.exists(args.deck):
+    if not os.path.lexists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")
     rep = check_deck(read_deck(args.deck))
-    sys.stdout.write(rep.text)
-    sys.stdout.flush()
+    write_stdout(rep.text)  # a closed pipe keeps the status and the error line
     if rep.error:
         print(rep.error, file=sys.stderr)
     return rep.status

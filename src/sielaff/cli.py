@@ -20,26 +20,20 @@ import sys
 import warnings
 from collections.abc import Callable, Sequence
 
-from sielaff.cards import Deck, DeckError, read_deck
-
-EXIT_DECK, EXIT_NOT_CRANK_ROCKER, EXIT_INTERRUPTED = 2, 3, 130
-
-
-class CommandError(Exception):
-    """A one-line failure with its exit status."""
-
-    def __init__(self, message: str, status: int = EXIT_DECK) -> None:
-        super().__init__(message)
-        self.status = status
-
-
-def endless_range(deck: Deck) -> str | None:
-    """The first range card the 1966 loop would never leave (DELTA <= 0, THZERO <= THMAX)."""
-    for card, (thzero, delta, thmax) in zip(deck.range_cards, deck.ranges):
-        if delta <= 0 and thzero <= thmax:
-            return (f"{deck.path}: card {card}, columns 9-16: DELTA = {delta:g} with THZERO = "
-                    f"{thzero:g} <= THMAX = {thmax:g}: the 1966 loop would never end")
-    return None
+from sielaff.cards import DeckError
+from sielaff.common import (
+    EXIT_DECK,
+    EXIT_INTERRUPTED,
+    EXIT_NOT_CRANK_ROCKER,
+    CommandError,
+    Terminated,
+    install_signal_handlers,
+    load_runnable,
+    not_a_crank_rocker,
+    refuse_overwriting_inputs,
+    silence_stdout,
+    write_stdout,
+)
 
 
 def sheet_count(text: str) -> int:
@@ -53,47 +47,6 @@ def sheet_count(text: str) -> int:
     return value
 
 
-def _load(path: str) -> Deck:
-    if not os.path.exists(path):
-        raise CommandError(f"{path}: no such deck")
-    deck = read_deck(path)
-    for warning in deck.warnings:
-        print(f"sielaff: warning: {warning}", file=sys.stderr)
-    return deck
-
-
-def not_a_crank_rocker(deck: Deck) -> str | None:
-    """The one-line refusal naming card 3 and the failed condition, or None."""
-    from sielaff.mechanism import crank_rocker_failure
-
-    failure = crank_rocker_failure(deck.mechanism)
-    if failure is None:
-        return None
-    return f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}"
-
-
-def load_runnable(path: str) -> Deck:
-    """A deck for the emulator: refused at once if a range would never end.
-
-    A deck that is not a crank-rocker is let through: the 1966 program prints
-    its message and stops before it ever loops.
-    """
-    deck = _load(path)
-    problem = endless_range(deck)
-    if problem and not_a_crank_rocker(deck) is None:
-        raise CommandError(problem)
-    return deck
-
-
-def load_for_engine(path: str) -> Deck:
-    """A deck for the modern engine: a crank-rocker (else exit 3) whose ranges all end."""
-    deck = load_runnable(path)
-    message = not_a_crank_rocker(deck)
-    if message:
-        raise CommandError(message, EXIT_NOT_CRANK_ROCKER)
-    return deck
-
-
 # -- run --------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.emulator import notice_printer, run
@@ -102,21 +55,24 @@ def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.program import NotCrankRocker, ProgramError, SheetLimit
     from sielaff.progress import run_progress
 
-    deck = load_runnable(args.deck)
+    refuse_overwriting_inputs(args.output, [args.deck])
+    deck = load_runnable(args.deck, args.arith, args.max_sheets)
     bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
     notice = bar.wrap(notice_printer(sys.stderr))
-    status = 0
     with atomic_output(args.output) as out:
         stream = AsaRenderer(out) if args.render else out
         try:
             with bar:
                 run(deck, stream, arithmetic=args.arith, notice=notice,
                     kinematics_only=args.kinematics_only or args.only == "kinematics",
-                    max_sheets=args.max_sheets,
-                    progress=bar)
-        except NotCrankRocker:
-            print(not_a_crank_rocker(deck), file=sys.stderr)
-            status = EXIT_NOT_CRANK_ROCKER
+                    max_sheets=args.max_sheets, progress=bar)
+        except NotCrankRocker as exc:
+            # The listing holds the 1966 message; an -o file is left as it was (exit 3).
+            if args.render:
+                stream.close()
+            raise CommandError(not_a_crank_rocker(deck) or f"{deck.path}: card 3: THIS IS "
+                               f"NOT A CRANK ROCKER MECHANISM: {exc}",
+                               EXIT_NOT_CRANK_ROCKER) from None
         except SheetLimit as limit:
             print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "
                   "the deck asks for more", file=sys.stderr)
@@ -124,7 +80,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise CommandError(f"{deck.path}: {exc}") from exc
         if args.render:
             stream.close()
-    return status
+    return 0
 
 
 # -- bench ------------------------------------------------------------------
@@ -180,9 +136,9 @@ def cmd_diff(args: argparse.Namespace) -> int:
         lines = diff_listings(*texts)
     except ListingError as exc:
         raise CommandError(f"{exc}") from exc
-    for line in lines:
-        print(line)
-    return 1 if lines else 0
+    status = 1 if lines else 0
+    write_stdout("".join(line + "\n" for line in lines))  # the status survives a closed pipe
+    return status
 
 
 # -- table ------------------------------------------------------------------
@@ -342,6 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    install_signal_handlers()
     debug = getattr(args, "debug", False)
     with warnings.catch_warnings():
         # A Python warning becomes one diagnostic line, never source text and a path.
@@ -367,10 +324,15 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
             raise
         print("sielaff: interrupted; no output file was changed", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Terminated as exc:
+        if debug:
+            raise
+        print(f"sielaff: terminated by {exc.name}; no output file was changed",
+              file=sys.stderr)
+        return exc.status
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        silence_stdout()
         return 0
     except OSError as exc:  # an output file that cannot be written, a full disk
         if debug:

@@ -114,7 +114,7 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism
+from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism, validate
 
 __all__ = [
     "AssemblyWarning",
@@ -205,12 +205,26 @@ def _crank_angle(ATH2):
     return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
 
 
+def _length_scale(R1, R2, R3, R4):
+    """1, or a power of two that brings the lengths near 1 where H^2 ~ L^4 would overflow
+    or underflow (lengths past about 1E70 or below 1E-70): exact, and dimensionless
+    results do not change."""
+    big = max(float(np.max(R)) for R in (R1, R2, R3, R4))
+    small = min(float(np.min(R)) for R in (R1, R2, R3, R4))
+    if 1e-70 < small and big < 1e70:
+        return 1.0
+    return np.exp2(-np.round(np.log2(np.asarray(R1 + R2 + R3 + R4, dtype=float))))
+
+
 @step(
     provides=("c3", "s3", "c4", "s4", "s34", "c34"),
     needs=("R1", "R2", "R3", "R4", "c2", "s2"),
 )
 def _loop_closure(R1, R2, R3, R4, c2, s2):
     """Position of links 3 and 4 on the listing's open branch (see module doc)."""
+    scale = _length_scale(R1, R2, R3, R4)
+    if np.any(scale != 1.0):
+        R1, R2, R3, R4 = R1 * scale, R2 * scale, R3 * scale, R4 * scale
     dx = R1 - R2 * c2  # d = O4 - A
     dy = s2 * -R2
     zl2 = dx * dx
@@ -778,9 +792,12 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     fields and ``tex``, as a :class:`Results` whose ``not_assembled`` counts the
     positions where the loop cannot close (their results are NaN; an
     :class:`AssemblyWarning` says how many).  Shapes that do not broadcast are a
-    ValueError naming the fields.
+    ValueError naming the fields, and so is a mechanism no linkage can have
+    (:func:`sielaff.mechanism.validate`: a missing or non-finite field, a length that
+    is not positive, a negative weight or inertia).
     """
     wanted = _check_outputs(outputs)
+    validate(mechanism)
     ns = _seed(mechanism, ath2, tex)
     seeded = frozenset(ns)
     named = [("ath2", np.shape(ath2))] + [

@@ -29,6 +29,7 @@ may be a numpy array that broadcasts against the crank angles.
 
 from __future__ import annotations
 
+import math
 from dataclasses import astuple, dataclass, fields
 from dataclasses import replace as dataclasses_replace
 from typing import Any
@@ -102,20 +103,88 @@ EXAMPLE = Mechanism(
 )
 
 
-def crank_rocker_failure(m: Mechanism) -> str | None:
+#: A crank-rocker condition whose margin is within this fraction of C = R1/R2 of zero is the
+#: boundary itself: a change point (R1 + R2 = R3 + R4, or R1 - R2 = |R4 - R3|) or a crank
+#: as long as another link.  Punched lengths differ by 1E-4 in or more (1E-5 relative to a
+#: 12 in link); roundoff of the ratios is 1E-16: 1E-9 lies far from both.
+BOUNDARY = 1e-9
+
+#: What every length, weight and inertia must be (``validate``).
+LENGTHS = ("R1", "R2", "R3", "R4")
+NONNEGATIVE = ("W2", "W3", "W4", "ZI2", "ZI3", "ZI4")
+
+
+def validate(m: Mechanism) -> None:
+    """Raise ValueError naming the first field a mechanism cannot have.
+
+    Every field must be given and finite (any array element); the lengths R1-R4
+    positive; weights and moments of inertia not negative.  Angles, centre-of-mass
+    distances and the crank speed may have any sign.  Arrays are checked
+    element by element (one bad design in a sweep is named by its field).
+    """
+    import numpy as np
+
+    for name in FIELD_NAMES:
+        value = getattr(m, name)
+        if value is None:
+            raise ValueError(f"{name} is missing: every field of the Mechanism needs a value")
+        try:
+            v = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} = {value!r} is not a number") from None
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"{name} = {_first_bad(v, ~np.isfinite(v))} is not finite")
+        if name in LENGTHS and not np.all(v > 0.0):
+            raise ValueError(f"{name} = {_first_bad(v, ~(v > 0.0))} {UNITS[name]}: the link "
+                             "lengths R1-R4 must be positive")
+        if name in NONNEGATIVE and not np.all(v >= 0.0):
+            raise ValueError(f"{name} = {_first_bad(v, ~(v >= 0.0))} {UNITS[name]}: weights "
+                             "and moments of inertia cannot be negative")
+
+
+def _first_bad(v, bad) -> str:
+    import numpy as np
+
+    x = float(v) if v.ndim == 0 else float(v[np.unravel_index(np.argmax(bad), v.shape)])
+    return f"{x:g}"
+
+
+def crank_rocker_failure(m: Mechanism, exact: dict | None = None) -> str | None:
     """Which of the report's crank-rocker conditions (p. 4) ``m`` fails, or None.
 
     With A = R3/R2, B = R4/R2, C = R1/R2 the 1966 program (statements
-    45-51) requires A > 1, B > 1, C > 1, C < A+B-1 and C > |B-A|+1.
+    45-51) requires A > 1, B > 1, C > 1, C < A+B-1 and C > |B-A|+1.  Here
+    they are evaluated exactly (rationals) on the punched decimals (``exact``,
+    ``Deck.exact``) or on the floats' exact values, and a margin within
+    :data:`BOUNDARY` of C from zero is the boundary itself (a change point),
+    which is not a crank-rocker.  The emulator runs the program's own test in
+    its own arithmetic, as 1966 did; this is the modern tools' test.
     """
-    if not m.R2 > 0:
-        return f"R2 = {m.R2:g}: the crank must have a positive length"
-    A, B, C = m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2
+    from fractions import Fraction
+
+    for name in LENGTHS:
+        value = getattr(m, name)
+        if not (isinstance(value, int | float) or hasattr(value, "__float__")) \
+                or not math.isfinite(float(value)) or not float(value) > 0:
+            return f"{name} = {value}: the link lengths must be positive"
+    R1, R2, R3, R4 = (Fraction(exact[n]) if exact and n in exact else Fraction(float(getattr(m, n)))
+                      for n in LENGTHS)
+    A, B, C = R3 / R2, R4 / R2, R1 / R2
+    tol = Fraction(BOUNDARY) * C
     checks = (
-        (A > 1.0, f"A = R3/R2 = {A:.6g} must be > 1 (the crank must be the shortest link)"),
-        (B > 1.0, f"B = R4/R2 = {B:.6g} must be > 1 (the crank must be the shortest link)"),
-        (C > 1.0, f"C = R1/R2 = {C:.6g} must be > 1 (the crank must be the shortest link)"),
-        (C < A + B - 1.0, f"C = R1/R2 = {C:.6g} must be < A+B-1 = {A + B - 1.0:.6g}"),
-        (C > abs(B - A) + 1.0, f"C = R1/R2 = {C:.6g} must be > |B-A|+1 = {abs(B - A) + 1.0:.6g}"),
+        (A - 1, f"A = R3/R2 = {float(A):.6g} must be > 1 (the crank must be the shortest link)"),
+        (B - 1, f"B = R4/R2 = {float(B):.6g} must be > 1 (the crank must be the shortest link)"),
+        (C - 1, f"C = R1/R2 = {float(C):.6g} must be > 1 (the crank must be the shortest link)"),
+        (A + B - 1 - C, f"C = R1/R2 = {float(C):.6g} must be < A+B-1 = {float(A + B - 1):.6g}"),
+        (C - abs(B - A) - 1,
+         f"C = R1/R2 = {float(C):.6g} must be > |B-A|+1 = {float(abs(B - A) + 1):.6g}"),
     )
-    return next((text for ok, text in checks if not ok), None)
+    for k, (margin, text) in enumerate(checks):
+        if abs(margin) <= tol:
+            what = ("a link as short as the crank" if k < 3 else
+                    "R1 + R2 = R3 + R4" if k == 3 else "R1 - R2 = |R4 - R3|")
+            return (f"{text}, and is within {BOUNDARY:g} of it ({what}): a change point, "
+                    "where the linkage can fold at a toggle; not a crank-rocker")
+        if margin < 0:
+            return text
+    return None

@@ -580,7 +580,7 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.cli import CommandError, load_for_engine
+    from sielaff.common import CommandError, load_for_engine
 
     try:
         _pyplot()

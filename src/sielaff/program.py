@@ -77,7 +77,17 @@ ARCCOS_MAX_TERMS = 10_000
 
 
 class NotCrankRocker(Exception):
-    """The deck's lengths fail the crank-rocker test (statement 52)."""
+    """The deck's lengths fail the crank-rocker test (statement 52); the message says which
+    of statements 45-51 failed, in the run's arithmetic."""
+
+
+def _failed_test(A, B, C, ABS, arithmetic: str) -> str:
+    """The first of the tests of statements 45-51 that fails, as the program evaluated it."""
+    tests = (("A.GT.1.0", A > 1.0), ("B.GT.1.0", B > 1.0), ("C.GT.1.0", C > 1.0),
+             ("C.LT.(A+B-1.0)", C < (A + B - 1.0)), ("C.GT.(ABS(B-A)+1.0)", C > (ABS(B - A) + 1.0)))
+    failed = next((text for text, ok in tests if not ok), "?")
+    return (f"IF({failed}) fails in {arithmetic} arithmetic (A = {float(A):.9g}, "
+            f"B = {float(B):.9g}, C = {float(C):.9g})")
 
 
 class SheetLimit(Exception):
@@ -214,7 +224,7 @@ class Program:
                     and C < (A + B - 1.0)                       # 49 IF(C.LT.(A+B-1.0))GOTO51
                     and C > (ABS(B - A) + 1.0)):                # 51 IF(C.GT.(ABS(B-A)+1.0))GOTO54
                 write(20)                                       # 52 WRITE(3,20)
-                raise NotCrankRocker("THIS IS NOT A CRANK ROCKER MECHANISM")  # GOTO 237
+                raise NotCrankRocker(_failed_test(A, B, C, ABS, ar.name))  # GOTO 237
             while True:
                 if max_sheets is not None and sheets >= max_sheets:
                     raise SheetLimit(sheets)

@@ -70,7 +70,9 @@ from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
 
 __all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "spec_values"]
 
-EXIT_SPEC, EXIT_NOT_CRANK_ROCKER = 2, 3
+from sielaff.common import EXIT_DECK as EXIT_SPEC  # noqa: E402
+from sielaff.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
+
 WIDTH = 8
 
 LINKS = ("crank", "coupler", "rocker")
@@ -300,14 +302,17 @@ def punch_file(path: str | os.PathLike[str]) -> str:
         raise PunchError(f"{name}: not a text file (byte {err.start})") from None
     except tomllib.TOMLDecodeError as err:
         raise PunchError(f"{name}: not valid TOML ({err})") from None
+    except RecursionError:
+        raise PunchError(f"{name}: not a spec (tables or arrays nested too deep)") from None
     return punch_deck(spec, name)
 
 
 def cmd_punch(args) -> int:
     """``sielaff punch SPEC.toml [-o DECK]``."""
-    from sielaff.cli import CommandError
+    from sielaff.common import CommandError, refuse_overwriting_inputs
     from sielaff.output import atomic_output
 
+    refuse_overwriting_inputs(args.output, [args.spec])
     try:
         text = punch_file(args.spec)
     except PunchError as exc:

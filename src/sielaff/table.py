@@ -173,7 +173,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
     ``warn(text)`` receives one line per range card with no positions, and per
     card with values that are not finite.  The caller has checked the deck
-    (:func:`sielaff.cli.endless_range`, the crank-rocker test).
+    (:func:`sielaff.common.load_for_engine`: the crank-rocker test, the ranges).
     """
     if fmt not in FORMATS:
         raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
@@ -233,10 +233,11 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
-    from sielaff.cli import CommandError, load_for_engine
+    from sielaff.common import CommandError, load_for_engine, refuse_overwriting_inputs
     from sielaff.output import atomic_output
 
-    deck = load_for_engine(args.deck)
+    refuse_overwriting_inputs(args.output, [args.deck])
+    deck = load_for_engine(args.deck, columns(args.only == "kinematics")[1:])
     for i, card in enumerate(deck.range_cards):
         if count(*_exact(deck, i)) > MAX_POSITIONS:
             thzero, delta, thmax = deck.ranges[i]

@@ -1,0 +1,218 @@
+"""What every command shares: exit statuses, the one-line error, loading a deck with
+its checks, output that never destroys an input, signals, and a closed stdout.
+
+Exit statuses (``sielaff help exit``): 0 done, 1 ``diff`` found differences, 2 bad
+input or output, 3 not a crank-rocker, 130 Ctrl-C, 128 + N another signal N (SIGTERM
+143, SIGHUP 129).  A failure is one line on stderr naming the card and columns or the
+field.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from collections.abc import Iterable
+
+from sielaff.cards import PARAMETER_CARDS, Deck, read_deck
+
+EXIT_DIFFERENT, EXIT_DECK, EXIT_NOT_CRANK_ROCKER, EXIT_INTERRUPTED = 1, 2, 3, 130
+
+
+class CommandError(Exception):
+    """A one-line failure with its exit status."""
+
+    def __init__(self, message: str, status: int = EXIT_DECK) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+# -- signals ------------------------------------------------------------------------
+class Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived: unwind like Ctrl-C, so temporary files are removed."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+        self.status = 128 + signum
+        self.name = signal.Signals(signum).name
+
+
+def _raise_terminated(signum, _frame) -> None:
+    raise Terminated(signum)
+
+
+def install_signal_handlers() -> None:
+    """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
+    every output written whole or not at all, the temporary file removed."""
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), _raise_terminated)
+
+
+# -- output -------------------------------------------------------------------------
+def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None:
+    """Refuse, before any work, an ``-o`` that is (or links to) one of the inputs."""
+    if output in (None, "-", ""):
+        if output == "":
+            raise CommandError("sielaff: -o '': an empty file name")
+        return
+    for path in inputs:
+        try:
+            same = os.path.samefile(output, path)
+        except OSError:
+            same = os.path.realpath(output) == os.path.realpath(path)
+        if same:
+            raise CommandError(f"sielaff: -o {output} is the input {path}: refusing to "
+                               "overwrite it (choose another output file)")
+
+
+def write_stdout(text: str) -> bool:
+    """Write ``text`` on stdout; False (and stdout quietly closed) if the reader went away,
+    so the caller can still report its status and error line."""
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return True
+    except BrokenPipeError:
+        silence_stdout()
+        return False
+
+
+def silence_stdout() -> None:
+    """Point stdout at /dev/null: the pipe's reader is gone, and Python's final flush
+    must not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+
+
+# -- decks ---------------------------------------------------------------------------
+def load_deck(path: str) -> Deck:
+    """Read a deck; its warnings go to stderr, one line each."""
+    if not os.path.lexists(path):
+        raise CommandError(f"{path}: no such deck")
+    deck = read_deck(path)
+    for warning in deck.warnings:
+        print(f"sielaff: warning: {warning}", file=sys.stderr)
+    return deck
+
+
+def mechanism_problem(deck: Deck) -> CommandError | None:
+    """A deck's mechanism that no command can use (exit 2) or that is not a crank-rocker
+    (exit 3), as one error; None if it is a crank-rocker the engine can analyse."""
+    from sielaff.mechanism import crank_rocker_failure, validate
+
+    try:
+        validate(deck.mechanism)
+    except ValueError as exc:
+        card = next((n for n, names in enumerate(PARAMETER_CARDS, 1)
+                     if str(exc).split(" ", 1)[0] in names), None)
+        where = f": card {card}" if card else ""
+        return CommandError(f"{deck.path}{where}: {exc}")
+    failure = crank_rocker_failure(deck.mechanism, getattr(deck, "exact", None))
+    if failure:
+        return CommandError(f"{deck.path}: card 3: THIS IS NOT A CRANK ROCKER MECHANISM: "
+                            f"{failure}", EXIT_NOT_CRANK_ROCKER)
+    return None
+
+
+def range_problem(deck: Deck, arithmetic="float64", max_sheets: int | None = None
+                  ) -> CommandError | None:
+    """The first range card the 1966 loop would never leave, or whose sheets (with the
+    cards before it) pass the ceiling :data:`sielaff.ranges.MAX_SHEETS`, as one error
+    naming the card and columns; None if the deck's ranges are fine.  With
+    ``max_sheets`` the run stops there, so only a range that never ends is refused."""
+    from sielaff.ranges import MAX_SHEETS, sheet_count
+
+    ceiling = MAX_SHEETS if max_sheets is None else max_sheets
+    total = 0
+    name = arithmetic if isinstance(arithmetic, str) else getattr(arithmetic, "name", "")
+    for card, (thzero, delta, thmax) in zip(deck.range_cards, deck.ranges):
+        n = sheet_count(thzero, delta, thmax, arithmetic)
+        what = (f"{deck.path}: card {card}, columns 1-24: THZERO = {thzero:g}, DELTA = "
+                f"{delta:g}, THMAX = {thmax:g}")
+        if n is None:
+            if max_sheets is not None:
+                return None  # the run stops at --max-sheets
+            where = f"{deck.path}: card {card}, columns 9-16: DELTA = {delta:g}"
+            if delta <= 0:
+                return CommandError(f"{where} with THZERO = {thzero:g} <= THMAX = {thmax:g}: "
+                                    "the 1966 loop would never end")
+            return CommandError(f"{where} is too small to move THETA 2 = {thzero:g} in {name} "
+                                f"arithmetic: ATH2 = TH + I*DELTA never passes THMAX = "
+                                f"{thmax:g}, so the 1966 loop would never end")
+        total += n
+        if total > ceiling and max_sheets is None:
+            count = f"{n:,}" if n < 10**12 else f"{n:.2E}".replace("+", "")
+            return CommandError(f"{what}: {count} sheets, past the ceiling of "
+                                f"{MAX_SHEETS:,} for a deck (--max-sheets N prints the first "
+                                "N; or check DELTA)")
+        if total > ceiling:
+            return None
+    return None
+
+
+def load_runnable(path: str, arithmetic="float64", max_sheets: int | None = None) -> Deck:
+    """A deck for the emulator: lengths it can hold, ranges that end.
+
+    A deck that is not a crank-rocker is let through: the 1966 program prints its
+    message and stops before it ever loops.
+    """
+    from sielaff.mechanism import crank_rocker_failure
+
+    deck = load_deck(path)
+    problem = mechanism_problem(deck)
+    if problem is not None and problem.status == EXIT_DECK:
+        raise problem
+    if crank_rocker_failure(deck.mechanism, getattr(deck, "exact", None)) is None:
+        problem = range_problem(deck, arithmetic, max_sheets)
+        if problem is not None:
+            raise problem
+    return deck
+
+
+def load_for_engine(path: str, outputs=None) -> Deck:
+    """A deck for the modern engine: a crank-rocker (else exit 3) whose ranges all end and
+    whose ``outputs`` (default: all) stay in the 1410's range over a revolution."""
+    deck = load_deck(path)
+    problem = (mechanism_problem(deck) or range_problem(deck)
+               or results_problem(deck, outputs))
+    if problem is not None:
+        raise problem
+    return deck
+
+
+def not_a_crank_rocker(deck: Deck) -> str | None:
+    """The one-line refusal naming card 3 and the failed condition, or None."""
+    problem = mechanism_problem(deck)
+    if problem is not None and problem.status == EXIT_NOT_CRANK_ROCKER:
+        return str(problem)
+    return None
+
+
+
+def results_problem(deck: Deck, outputs=None) -> CommandError | None:
+    """Results past the IBM 1410's range (|x| >= 1E99, or not finite) over a revolution,
+    where the listing could not print them and ``sielaff run`` stops (exit 2): one error
+    naming the worst quantity, so every command refuses the same decks."""
+    import numpy as np
+
+    from sielaff.engine import RESULTS, analyze
+    from sielaff.quantities import unit
+
+    with np.errstate(all="ignore"):  # only the steps ``outputs`` need (kinematics: no forces)
+        r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or RESULTS)
+    worst, value = None, 0.0
+    for name, v in r.items():
+        bad = ~np.isfinite(v) | (np.abs(v) >= 1e99)
+        if bad.any():
+            worst, value = name, float(v[np.argmax(bad)])
+            break
+    if worst is None:
+        return None
+    return CommandError(f"{deck.path}: card 6: TH2D = {deck.mechanism.TH2D:g} rad/sec with "
+                        f"these lengths and weights gives {worst} = {value:.3g} {unit(worst)}, "
+                        "past the IBM 1410's range (1E99): the 1966 program cannot print it")
