@@ -126,7 +126,7 @@ def test_read_field_other_widths_and_d() -> None:
     ("   .    ", "not a number (no digits)"),
     ("   -.   ", "not a number (no digits)"),
     ("    E2  ", "not a number (no digits before the exponent)"),
-    ("  --1.0 ", "not a number (no digits before the exponent)"),
+    ("  --1.0 ", "not a number (two signs)"),
     ("   1.5E ", "not a number (exponent without digits)"),
     ("  1.5E+ ", "not a number (exponent without digits)"),
     ("    1.5-", "not a number (exponent without digits)"),

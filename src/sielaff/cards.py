@@ -54,7 +54,12 @@ program).  Every problem is a one-line :class:`DeckError`.
 
 from __future__ import annotations
 
+import io
+import itertools
 import os
+import re
+from array import array
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import NamedTuple
@@ -143,6 +148,8 @@ def read_field_decimal(text: str, d: int = DIGITS) -> Decimal:
         sign, s = s[0].replace("+", ""), s[1:]
         if not s.strip(" "):
             raise ValueError("not a number (a sign and no digits)")
+        if s.lstrip(" ")[:1] in ("+", "-"):
+            raise ValueError("not a number (two signs)")
     cut = next((i for i, c in enumerate(s) if c in "+-EeDd"), len(s))
     mantissa, exponent = s[:cut], s[cut:]
     if mantissa.count(".") > 1:
@@ -169,6 +176,10 @@ def read_field_decimal(text: str, d: int = DIGITS) -> Decimal:
     scale = len(fraction) if point else d
     value = Decimal(f"{sign}{whole}{fraction}E{e - scale}")
     if value and not _SMALLEST <= abs(value) < _OVERFLOW:
+        meant = Decimal(f"{sign}{whole}E{e}") if whole else value
+        if not point and exponent and _SMALLEST <= abs(meant) < _OVERFLOW:
+            hint += (f"; with no decimal point F8.4 reads the mantissa {whole} as "
+                     f"{Decimal(whole).scaleb(-d)}: write {whole}.{exponent.strip()}")
         raise ValueError(f"out of range ({value:E}; the IBM 1410 holds 1E-100 <= |x| < 1E99{hint})")
     return value
 
@@ -232,71 +243,202 @@ def parse_card(text: str, n: int, card_no: int, path: str) -> list[float]:
     return [float(v) + 0.0 for v in _card_decimals(text, n, card_no, path)]
 
 
-def _cards(data: bytes, path: str, warnings: list[str]) -> list[str]:
-    """Split a deck file into card images (80 columns each), checking characters."""
-    nul = data.find(b"\0")
-    if nul >= 0:
-        raise DeckError(path, f"not a text deck (binary data at byte {nul})")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as err:
-        raise DeckError(path, f"not a text deck (binary data at byte {err.start})") from None
-    lines = [line.removesuffix("\r") for line in text.split("\n")]
-    while lines and not lines[-1].strip(" "):
-        lines.pop()
-    warnings.extend(f"{path}: card {n}: blank line at end of file ignored"
-                    for n, line in enumerate(text.split("\n")[len(lines):], len(lines) + 1)
-                    if line.strip("\r"))
-    cards = []
-    for n, line in enumerate(lines, 1):
-        for col, c in enumerate(line, 1):
+#: The most of one line read (a card is 80 columns; the rest of a longer line is skipped,
+#: a block at a time, and counted for the warning).
+LINE_LIMIT = 4096
+#: Warnings kept in ``Deck.warnings``; past this one line says how many more there were.
+MAX_WARNINGS = 100
+
+_BAD_CHARACTER = re.compile(r"[^ -~]")
+#: A field of the usual form (blanks, a sign, digits with a decimal point): its value is
+#: its text, and no warning can apply.
+_PLAIN_FIELD = re.compile(r" *[-+]?(?:\d+\.\d*|\.\d+)")
+
+
+class _View(Sequence):
+    """A read-only sequence that compares equal to a list of the same items."""
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Sequence) and not isinstance(other, str):
+            return len(self) == len(other) and all(a == b for a, b in zip(self, other))
+        return NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"[{', '.join(map(repr, self[:5]))}{', ...' if len(self) > 5 else ''}]"
+
+
+class RangeList(_View):
+    """The range cards' values, packed: 24 bytes a card, however many cards."""
+
+    def __init__(self, values: array) -> None:
+        self._v = values
+
+    def __len__(self) -> int:
+        return len(self._v) // 3
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        n = len(self)
+        if not -n <= i < n:
+            raise IndexError(i)
+        i %= n
+        return Range(*self._v[3 * i:3 * i + 3])
+
+
+class ExactRangeList(_View):
+    """The range cards' exact decimals, read from their 24 columns when asked for."""
+
+    def __init__(self, text: bytearray) -> None:
+        self._t = text
+
+    def __len__(self) -> int:
+        return len(self._t) // 24
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        n = len(self)
+        if not -n <= i < n:
+            raise IndexError(i)
+        i %= n
+        card = self._t[24 * i:24 * i + 24].decode("ascii")
+        return tuple(read_field_decimal(card[k:k + 8]) for k in (0, 8, 16))
+
+
+class CardNumbers(_View):
+    """The range cards' line numbers: consecutive, so two integers hold them all."""
+
+    def __init__(self, first: int, last: int) -> None:
+        self._r = range(first, last + 1)
+
+    def __len__(self) -> int:
+        return len(self._r)
+
+    def __getitem__(self, i):
+        return list(self._r[i]) if isinstance(i, slice) else self._r[i]
+
+
+def _lines(f, path: str, warnings: list[str]):
+    """(line number, text) of a deck file, each line read only as far as a card needs;
+    the characters are checked (one DeckError naming card and column)."""
+    offset = 0
+    for n in itertools.count(1):
+        raw = f.readline(LINE_LIMIT)
+        if not raw:
+            return
+        start, length = offset, len(raw)
+        offset += len(raw)
+        nul = raw.find(b"\0")
+        if nul >= 0:  # before skipping anything: /dev/zero has no line end
+            raise DeckError(path, f"not a text deck (binary data at byte {start + nul})")
+        cut = not raw.endswith(b"\n") and len(raw) == LINE_LIMIT
+        if cut:  # a long line: skip the rest
+            while True:
+                more = f.readline(LINE_LIMIT)
+                offset += len(more)
+                length += len(more)
+                at = more.find(b"\0")
+                if at >= 0:
+                    raise DeckError(path, "not a text deck (binary data at byte "
+                                    f"{offset - len(more) + at})")
+                if not more or more.endswith(b"\n"):
+                    break
+        try:
+            line = raw.decode("utf-8")
+        except UnicodeDecodeError as err:
+            if not cut or err.start < len(raw) - 3:  # not merely a character cut short
+                raise DeckError(path, "not a text deck (binary data at byte "
+                                f"{start + err.start})") from None
+            line = raw[:err.start].decode("utf-8")
+        line = line.removesuffix("\n").removesuffix("\r")
+        bad = _BAD_CHARACTER.search(line)
+        if bad:
+            c, col = bad.group(), bad.start() + 1
             if c == "\t":
                 reason = "tab character (cards have no tabs; use blanks)"
             elif ord(c) > 127:
                 reason = f"non-ASCII character {c!a}"
-            elif ord(c) < 32 or ord(c) == 127:
-                reason = f"control character {c!a}"
             else:
-                continue
+                reason = f"control character {c!a}"
             raise DeckError(path, reason, n, (col, col), line)
-        if len(line) > COLUMNS:
-            warnings.append(f"{path}: card {n}: {len(line)} columns, "
-                            f"columns {COLUMNS + 1}-{len(line)} ignored")
-        cards.append(line[:COLUMNS].ljust(COLUMNS))
-    return cards
+        width = length - (1 if raw.endswith(b"\n") or length > len(raw) else 0)
+        if line.endswith("\r"):
+            width -= 1
+        if width > COLUMNS:
+            _warn(warnings, f"{path}: card {n}: {width} columns, "
+                            f"columns {COLUMNS + 1}-{width} ignored")
+        yield n, line[:COLUMNS]
+
+
+def _warn(warnings: list[str], text: str) -> None:
+    if len(warnings) < MAX_WARNINGS:
+        warnings.append(text)
+    elif len(warnings) == MAX_WARNINGS:
+        warnings.append(f"(more warnings like these; only the first {MAX_WARNINGS} are shown)")
+
+
+def _read(f, path: str) -> Deck:
+    """A deck from a binary stream, read card by card at flat memory."""
+    warnings: list[str] = []
+    exact: dict[str, Decimal] = {}
+    values, texts = array("d"), bytearray()
+    pending: list[tuple[int, str]] = []  # blank lines: cards if another card follows
+    last = 0
+    for n, line in _lines(f, path, warnings):
+        if not line.strip(" "):
+            pending.append((n, line))
+            continue
+        for card in (*pending, (n, line)):
+            _card(*card, path, warnings, exact, values, texts)
+        pending.clear()
+        last = n
+    for n, line in pending:
+        if line:
+            warnings.append(f"{path}: card {n}: blank line at end of file ignored")
+    if last == 0:
+        raise DeckError(path, "empty deck (no cards)")
+    if last < len(PARAMETER_CARDS):
+        names = PARAMETER_CARDS[last]
+        raise DeckError(path, "deck ends inside the parameter cards "
+                        f"(expected {' '.join(names)})", last + 1)
+    if last == len(PARAMETER_CARDS):
+        raise DeckError(path, f"deck ends before the first range card ({' '.join(RANGE_NAMES)})")
+    mechanism = Mechanism(**{name: float(exact[name]) + 0.0 for name in FIELD_NAMES})
+    return Deck(mechanism=mechanism, ranges=RangeList(values),
+                range_cards=CardNumbers(len(PARAMETER_CARDS) + 1, last), path=path,
+                warnings=warnings, exact={name: exact[name] for name in FIELD_NAMES},
+                exact_ranges=ExactRangeList(texts))
+
+
+def _card(n: int, line: str, path: str, warnings: list[str], exact: dict,
+          values: array, texts: bytearray) -> None:
+    text = line.ljust(COLUMNS)
+    if n <= len(PARAMETER_CARDS):
+        names = PARAMETER_CARDS[n - 1]
+        exact.update(zip(names, _card_decimals(text, len(names), n, path, warnings)))
+        return
+    fields = (text[0:8], text[8:16], text[16:24])
+    if all(_PLAIN_FIELD.fullmatch(x) for x in fields):  # the usual card: nothing to warn
+        parsed = [float(x) + 0.0 for x in fields]
+        if not all(v == 0.0 or 1e-100 <= abs(v) < 1e99 for v in parsed):
+            _card_decimals(text, 3, n, path, warnings)  # says which field is out of range
+    else:
+        mine: list[str] = []
+        parsed = [float(v) + 0.0 for v in _card_decimals(text, 3, n, path, mine)]
+        for w in mine:
+            _warn(warnings, w)
+    values.extend(parsed)
+    texts += text[:24].encode("ascii")
 
 
 def parse_deck(text: str | bytes, path: str = "<deck>") -> Deck:
     """Read a deck from its content (``str`` or the file's ``bytes``)."""
     path = os.fspath(path)
     data = text.encode("utf-8", "surrogatepass") if isinstance(text, str) else bytes(text)
-    warnings: list[str] = []
-    cards = _cards(data, path, warnings)
-    if not cards:
-        raise DeckError(path, "empty deck (no cards)")
-    exact: dict[str, Decimal] = {}
-    for n, names in enumerate(PARAMETER_CARDS, 1):
-        if n > len(cards):
-            raise DeckError(path, "deck ends inside the parameter cards "
-                            f"(expected {' '.join(names)})", n)
-        exact.update(zip(names, _card_decimals(cards[n - 1], len(names), n, path, warnings)))
-    if len(cards) == len(PARAMETER_CARDS):
-        raise DeckError(path, f"deck ends before the first range card ({' '.join(RANGE_NAMES)})")
-    range_cards = list(range(len(PARAMETER_CARDS) + 1, len(cards) + 1))
-    exact_ranges: list[tuple[Decimal, Decimal, Decimal]] = []
-    for n in range_cards:
-        thzero, delta, thmax = _card_decimals(cards[n - 1], 3, n, path, warnings)
-        exact_ranges.append((thzero, delta, thmax))
-    mechanism = Mechanism(**{name: float(exact[name]) + 0.0 for name in FIELD_NAMES})
-    return Deck(
-        mechanism=mechanism,
-        ranges=[Range(*(float(v) + 0.0 for v in r)) for r in exact_ranges],
-        range_cards=range_cards,
-        path=path,
-        warnings=warnings,
-        exact={name: exact[name] for name in FIELD_NAMES},
-        exact_ranges=exact_ranges,
-    )
+    return _read(io.BytesIO(data), path)
 
 
 def read_deck(path: str | os.PathLike[str]) -> Deck:
@@ -304,7 +446,6 @@ def read_deck(path: str | os.PathLike[str]) -> Deck:
     name = os.fspath(path)
     try:
         with open(path, "rb") as f:
-            data = f.read()
+            return _read(f, name)
     except OSError as err:
         raise DeckError(name, f"cannot read the deck ({err.strerror or err})") from err
-    return parse_deck(data, name)

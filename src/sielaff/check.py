@@ -55,6 +55,8 @@ from sielaff.common import EXIT_DECK as EXIT_UNUSABLE  # noqa: E402
 from sielaff.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
 
 EXIT_OK = 0
+#: Range cards reported one by one; the rest are counted.
+DETAIL_CARDS = 20
 
 #: The port is run on at most this many sheets to find the quirks that need it.
 SHEET_LIMIT = 10_000
@@ -268,14 +270,28 @@ def _deck_section(deck: Deck, rep: CheckReport, sheets: list[RangeSheets]) -> No
         else:
             rep.add(f"          1966 listing: {rs.count:,} sheets, THETA 2 = {_plain(rs.first)} "
                     f"to {_plain(rs.last)}")
+    more = len(deck.ranges) - len(sheets)
+    if more > 0:
+        rest = _more_sheets(deck, len(sheets))
+        rep.add(f"  cards {deck.range_cards[len(sheets)]}-{deck.range_cards[-1]}: {more:,} more "
+                f"range cards, {rest:,} sheets (shown in detail: the first {DETAIL_CARDS})")
     for warning in deck.warnings:
         rep.add(f"  warning: {warning}")
 
 
+def _more_sheets(deck: Deck, start: int) -> int:
+    """Sheets of the range cards from ``start`` on (0 for one that never ends: the quirks
+    and the verdict say so)."""
+    from sielaff.ranges import sheet_count
+
+    return sum(sheet_count(*deck.ranges[i]) or 0 for i in range(start, len(deck.ranges)))
+
+
 def _exact_ranges(deck: Deck) -> list[tuple]:
+    """The first DETAIL_CARDS range cards' values as punched (as floats for a deck in code)."""
     if deck.exact_ranges and len(deck.exact_ranges) == len(deck.ranges):
-        return list(deck.exact_ranges)
-    return [tuple(r) for r in deck.ranges]
+        return list(deck.exact_ranges[:DETAIL_CARDS])
+    return [tuple(r) for r in deck.ranges[:DETAIL_CARDS]]
 
 
 def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) -> str | None:
@@ -440,6 +456,9 @@ def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
     reason = None if problem is None else str(problem)
     if reason is None and crank_rocker_failure(deck.mechanism, deck.exact) is None:
         reason = _run_port(deck, sheets, quirks, sheet_limit)
+    if len(deck.ranges) > len(sheets):
+        quirks.append(f"(range-card quirks of the first {DETAIL_CARDS} range cards only; "
+                      "sielaff run reports every one)")
     for q in quirks:
         rep.lines.extend(textwrap.wrap(q, 96, initial_indent="  ", subsequent_indent="    ",
                                        break_on_hyphens=False))
@@ -454,7 +473,7 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
     from sielaff.emulator import run
     from sielaff.program import ProgramError, SheetLimit
 
-    total = sum(rs.count or 0 for rs in sheets)
+    total = sum(rs.count or 0 for rs in sheets) + _more_sheets(deck, len(sheets))
     notes = _Collector()
     reason = None
     try:
@@ -482,7 +501,9 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     rep = CheckReport()
     rep.add(f"sielaff check: {deck.path}")
     rep.add()
-    sheets = [range_sheets(*r) for r in deck.ranges]
+    # Range cards in detail up to DETAIL_CARDS; past that only counted (flat memory, and a
+    # million-card deck is checked in seconds).
+    sheets = [range_sheets(*r) for r in deck.ranges[:DETAIL_CARDS]]
     _deck_section(deck, rep, sheets)
     rep.add()
     problem = mechanism_problem(deck)

@@ -148,6 +148,17 @@ def _counting(emit: Callable[[str], None], progress: Callable[[int], None]):
     return counted
 
 
+def _numpy_quiet(ar):
+    """numpy's floating-point warnings off for an arithmetic built on numpy scalars."""
+    import contextlib
+
+    if getattr(ar, "name", "") != "float32":
+        return contextlib.nullcontext()
+    import numpy as np
+
+    return np.errstate(all="ignore")
+
+
 def run(deck, out: TextIO, arithmetic: str = "float64",
         notice: Callable[[str, str], None] | None = None,
         kinematics_only: bool = False, max_sheets: int | None = None,
@@ -164,8 +175,10 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
     emit = out.write if progress is None else _counting(out.write, progress)
     writer = _SheetWriter(emit, kinematics_only)
+    quiet = _numpy_quiet(ar)  # float32 overflow is a ProgramError below, not a warning
     try:
-        sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets)
+        with quiet:
+            sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets)
     except NotCrankRocker:
         writer.flush()  # FORMAT 20's message
         raise

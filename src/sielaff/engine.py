@@ -38,8 +38,10 @@ Geometry, without ARCCOS
     Unlike the 1966 program (which takes Case II for any TH2 >= PI, e.g. 370
     degrees) the engine reduces ATH2 modulo 360 first (exactly, with fmod), so
     ATH2 + 360 k gives bit-identical results.  Positions where the loop cannot
-    close give NaN; at an exact toggle the positions are finite but the rates
-    divide by sin(th3 - th4) = 0 (numpy warns), as the linkage locks there.
+    close give NaN (counted: ``Results.not_assembled``); at an exact toggle the
+    positions are finite but the rates divide by sin(th3 - th4) = 0 and come out
+    infinite or NaN, as the linkage locks there (numpy's floating-point warnings are
+    silenced inside ``analyze``: these are answers, not accidents).
 
 Velocities and accelerations
     The report's (pp. 7-10 and Appendix B; the listing's TH3D .. AG3Y), with
@@ -780,6 +782,30 @@ def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None
     return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
 
 
+def _run(order, ns: dict[str, Any]) -> int | None:
+    """Run the planned steps in ``ns``; the number of positions that cannot assemble
+    (None if no position was solved)."""
+    not_assembled = None
+    module = globals()
+    for st, skipped, drop in order:
+        if skipped:
+            for name in st.provides:
+                ns[name] = 0.0
+        else:
+            fn = module.get(st.name, st.fn)  # looked up late so tests can patch it
+            STEP_CALLS[st.name] += 1
+            result = fn(*[ns[n] for n in st.needs])
+            if len(st.provides) == 1:
+                result = (result,)
+            for name, value in zip(st.provides, result, strict=True):
+                ns[name] = value
+            if "s34" in st.provides:  # where the loop cannot close, s34 is NaN
+                not_assembled = int(np.count_nonzero(np.isnan(ns["s34"])))
+        for name in drop:
+            del ns[name]
+    return not_assembled
+
+
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
             tex: Any = 0.0) -> Results:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
@@ -809,26 +835,8 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     # steps may update arrays in place with mechanism fields of any shape.
     ns["ATH2"] = np.broadcast_to(ns["ATH2"], shape)
     order = _plan(wanted, seeded, _zero_seeds(ns))
-    not_assembled: int | None = None
-
-    module = globals()
-    for st, skipped, drop in order:
-        if skipped:
-            for name in st.provides:
-                ns[name] = 0.0
-        else:
-            fn = module.get(st.name, st.fn)  # looked up late so tests can patch it
-            STEP_CALLS[st.name] += 1
-            result = fn(*[ns[n] for n in st.needs])
-            if len(st.provides) == 1:
-                result = (result,)
-            for name, value in zip(st.provides, result, strict=True):
-                ns[name] = value
-            if "s34" in st.provides:  # where the loop cannot close, s34 is NaN
-                not_assembled = int(np.count_nonzero(np.isnan(ns["s34"])))
-        for name in drop:
-            del ns[name]
-
+    with np.errstate(all="ignore"):  # NaN where the loop cannot close, inf at a toggle
+        not_assembled = _run(order, ns)
     out = Results()
     if not_assembled is not None:
         out.not_assembled = not_assembled

@@ -3,13 +3,18 @@
 For people who hold old printouts: a listing (ours, or a transcription of
 a 1966 sheet) is split into sheets at the page-eject record ``1``, each
 sheet's sections are found by their headings, and each printed field is
-named after the listing variable it shows.  ``diff_listings`` matches
-sheets by THETA 2 and reports each differing field with the difference in
-units of the last printed digit.
+named after the listing variable it shows.  ``diff_sheets`` matches
+sheets by THETA 2, in order, and reports each differing field with the
+difference in units of the last printed digit.  Both read a stream
+(``iter_sheets``), so a listing of any length is compared at flat memory; the
+``--render`` form (form feeds, no carriage control) reads the same
+(``asa_records``).
 """
 
 from __future__ import annotations
 
+import itertools
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 
@@ -96,16 +101,39 @@ class Sheet:
         return f.text.strip() if f else "?"
 
 
-def parse_listing(text: str) -> list[Sheet]:
-    """Split ASA listing text into sheets and fields (see module doc)."""
-    sheets: list[Sheet] = []
+def asa_records(lines: Iterable[str]) -> Iterator[str]:
+    """ASA records from the lines of a listing, either as ``sielaff run`` prints it (ASA
+    carriage control in column 1) or as ``--render`` prints it (plain text, a form feed
+    where a page begins): a rendered file is told by a form feed in its first 200 lines,
+    and turned back into records, so both read the same."""
+    it = iter(lines)
+    head = list(itertools.islice(it, 200))
+    rest = itertools.chain(head, it)
+    if not any("\f" in line for line in head):
+        yield from (line.rstrip("\r\n") for line in rest)
+        return
+    for line in rest:
+        line = line.rstrip("\r\n")
+        while "\f" in line:
+            before, _, line = line.partition("\f")
+            if before:
+                yield " " + before
+            yield "1"
+        if line:
+            yield " " + line
+
+
+def iter_sheets(records: Iterable[str]) -> Iterator[Sheet]:
+    """Sheets of a listing, one at a time, from its ASA records (see module doc).  A page
+    eject with nothing before it (a listing that starts with ``1``) makes no sheet."""
     sheet = Sheet(line=1)
     pending: list[tuple[tuple[str, ...], str]] = []
-    for lineno, record in enumerate(text.splitlines(), 1):
+    for lineno, record in enumerate(records, 1):
         control, body = record[:1], record[1:]
         stripped = body.strip()
         if control == "1":
-            sheets.append(sheet)
+            if sheet.fields or sheet.message:
+                yield sheet
             sheet = Sheet(line=lineno + 1)
             pending = []
             continue
@@ -126,8 +154,12 @@ def parse_listing(text: str) -> list[Sheet]:
             chunk = record[start + k * _WIDTH: start + (k + 1) * _WIDTH]
             sheet.fields[name] = Field(chunk, kind)
     if sheet.fields or sheet.message:
-        sheets.append(sheet)
-    return sheets
+        yield sheet
+
+
+def parse_listing(text: str) -> list[Sheet]:
+    """Split listing text (ASA or rendered) into sheets and fields (see module doc)."""
+    return list(iter_sheets(asa_records(text.splitlines())))
 
 
 def _units(got: Field, want: Field) -> str:
@@ -141,35 +173,35 @@ def _units(got: Field, want: Field) -> str:
 
 
 def diff_listings(listing: str, golden: str) -> list[str]:
-    """One line per field of ``golden`` that ``listing`` prints differently.
+    """One line per field of ``golden`` that ``listing`` prints differently (both text)."""
+    return list(diff_sheets(iter_sheets(asa_records(listing.splitlines())),
+                            iter_sheets(asa_records(golden.splitlines()))))
 
-    Sheets are matched by THETA 2 (the k-th golden sheet with a given THETA 2
-    against the k-th listing sheet with it).  ``golden`` may hold only some
-    sheets; fields that both print are compared by their printed text.
+
+def diff_sheets(listing: Iterable[Sheet], golden: Iterable[Sheet]) -> Iterator[str]:
+    """One line per field of the ``golden`` sheets that ``listing`` prints differently.
+
+    Both are streams of sheets, read once and in order, so memory stays flat however long
+    the listings: each golden sheet is matched with the next listing sheet that has its
+    THETA 2 (the golden may hold only some sheets, in the listing's order); one the
+    listing does not have is reported, and so is every golden sheet after it.  Fields
+    that both print are compared by their printed text.
     """
-    got_sheets = parse_listing(listing)
-    by_theta: dict[str, list[Sheet]] = {}
-    for s in got_sheets:
-        by_theta.setdefault(s.theta2, []).append(s)
-    seen: dict[str, int] = {}
-    out: list[str] = []
-    for want in parse_listing(golden):
+    got_sheets = iter(listing)
+    for want in golden:
         key = want.theta2
-        k = seen[key] = seen.get(key, 0) + 1
-        candidates = by_theta.get(key, [])
         where = f"THETA 2 = {key}"
-        if len(candidates) < k:
-            out.append(f"{where}: sheet not in the listing")
+        got = next((s for s in got_sheets if s.theta2 == key), None)
+        if got is None:
+            yield f"{where}: sheet not in the listing"
             continue
-        got = candidates[k - 1]
         if want.message != got.message:
-            out.append(f"{where}: message: got {got.message!r}, golden {want.message!r}")
+            yield f"{where}: message: got {got.message!r}, golden {want.message!r}"
         for name, wf in want.fields.items():
             gf = got.fields.get(name)
             label = f"{name} ({LABELS.get(name, name)})"
             if gf is None:
-                out.append(f"{where}: {label}: not printed, golden {wf.text.strip()}")
+                yield f"{where}: {label}: not printed, golden {wf.text.strip()}"
             elif gf.text != wf.text:
-                out.append(f"{where}: {label}: got {gf.text.strip()}, golden "
-                           f"{wf.text.strip()} ({_units(gf, wf)})")
-    return out
+                yield (f"{where}: {label}: got {gf.text.strip()}, golden "
+                       f"{wf.text.strip()} ({_units(gf, wf)})")

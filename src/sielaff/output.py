@@ -11,6 +11,14 @@ from collections.abc import Iterator
 from typing import TextIO
 
 
+def _cannot_write(path: str, err: OSError) -> str:
+    """Why an output cannot be written, in words that fit the case."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(folder):  # the folder is there: it takes no new file (/proc, read-only)
+        return f"cannot write (no new file can be made in {folder}: {err.strerror})"
+    return f"cannot write ({err.strerror})"
+
+
 def _mode_for(path: str) -> int:
     """The permissions a replacement of ``path`` gets: the old file's, or 0666 less the
     umask for a new one."""
@@ -55,7 +63,7 @@ def atomic_output(path: str | None, newline: str | None = None) -> Iterator[Text
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", suffix=".tmp",
                                    dir=os.path.dirname(target))
     except OSError as err:  # name the file asked for, not the temporary one
-        raise OSError(err.errno, f"cannot write ({err.strerror})", path) from None
+        raise OSError(err.errno, _cannot_write(target, err), path) from None
     try:
         with os.fdopen(fd, "w", newline=newline, buffering=1 << 16) as stream:
             os.fchmod(stream.fileno(), mode)
@@ -86,7 +94,7 @@ def atomic_files(paths: list[str]) -> Iterator[list[str]]:
                                            suffix=".tmp" + os.path.splitext(path)[1],
                                            dir=folder)
             except OSError as err:
-                raise OSError(err.errno, f"cannot write ({err.strerror})", path) from None
+                raise OSError(err.errno, _cannot_write(path, err), path) from None
             os.close(fd)
             temps.append(tmp)
         yield list(temps)

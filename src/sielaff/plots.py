@@ -34,16 +34,14 @@ THZERO > THMAX is its single position.
 ``plot_data(deck, only=None)`` returns the data behind every figure
 (:class:`PlotData`), and ``render(data, path)`` draws one with matplotlib's
 Agg backend; ``write_plots(deck, directory, only)`` does both for a deck.
-PNG files are written whole or not at all (temporary file, then rename).
+PNG files are written all or none (temporary files, renamed together at the end).
 """
 
 from __future__ import annotations
 
-import contextlib
 import io
 import math
 import os
-import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -542,38 +540,31 @@ def render_png(d: PlotData) -> bytes:
     return buf.getvalue()
 
 
-def _write_atomic(path: str, data: bytes) -> None:
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".tmp",
-                               dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            umask = os.umask(0o022)
-            os.umask(umask)
-            os.fchmod(f.fileno(), 0o666 & ~umask)
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
 def render(d: PlotData, path: str) -> None:
     """Draw ``d`` and write it to ``path`` as a PNG (atomically)."""
-    _write_atomic(path, render_png(d))
+    write_files({path: render_png(d)})
+
+
+def write_files(images: dict[str, bytes]) -> None:
+    """Write every file, all or none: temporary files first, renamed only when every one
+    is written (an interruption or a failure changes no file)."""
+    from sielaff.output import atomic_files
+
+    paths = list(images)
+    with atomic_files(paths) as temps:
+        for tmp, path in zip(temps, paths):
+            with open(tmp, "wb") as f:
+                f.write(images[path])
 
 
 def write_plots(deck: Deck, directory: str, only: str | None = None) -> list[str]:
-    """Write every figure of ``deck`` into ``directory`` (created if needed); the paths."""
+    """Write every figure of ``deck`` into ``directory`` (created if needed), all of them or
+    none; the paths."""
     _pyplot()  # fail before any work if matplotlib is missing
-    os.makedirs(directory, exist_ok=True)
-    paths = []
-    for d in plot_data(deck, only).values():
-        path = os.path.join(directory, d.filename)
-        render(d, path)
-        paths.append(path)
-    return paths
+    images = {os.path.join(directory, d.filename): render_png(d)
+              for d in plot_data(deck, only).values()}
+    write_files(images)
+    return list(images)
 
 
 def cmd_plot(args) -> int:
@@ -586,6 +577,11 @@ def cmd_plot(args) -> int:
         _pyplot()
     except ImportError as exc:
         raise CommandError(f"sielaff: {exc}") from None
+    if not args.output:
+        raise CommandError("sielaff: -o '': an empty folder name")
+    if os.path.exists(args.output) and not os.path.isdir(args.output):
+        raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
+                           "several PNG files into a folder")
     deck = load_for_engine(args.deck)
     for path in write_plots(deck, args.output, args.only):
         print(path)

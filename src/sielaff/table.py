@@ -50,8 +50,9 @@ Formats
     NaN).
 
 The output is written atomically (:func:`sielaff.output.atomic_output`) and
-streamed: the engine runs on blocks of :data:`BLOCK` positions and the text
-is produced :data:`CHUNK` rows at a time, so memory stays bounded however
+streamed: the engine runs on blocks of :data:`BLOCK` positions (the positions of
+many small range cards share one block) and the text is produced :data:`CHUNK`
+rows at a time, so memory stays bounded however
 many positions a deck asks for.  Formatting dominates the time (a million
 full rows take about 40 s, almost all of it in ``repr``; the engine itself
 needs about a second).
@@ -195,6 +196,37 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     else:
         out.write(header(names, units) + "\n")
     rows = 0
+    bad: dict[int, list[int]] = {}  # card -> [positions not finite, positions]
+    batch: list[tuple[int, int, np.ndarray]] = []  # (card, positions, angles): one call
+    batched = 0
+
+    def flush() -> None:
+        nonlocal rows, batched
+        if not batch:
+            return
+        ath2 = np.concatenate([a for _, _, a in batch])
+        with np.errstate(all="ignore"):
+            result = engine.analyze(deck.mechanism, ath2, outputs=wanted)
+        block = np.empty((ath2.size, len(wanted)))
+        for j, name in enumerate(wanted):
+            block[:, j] = result[name]
+        del result
+        start = 0
+        for card, n, a in batch:
+            part = block[start:start + a.size]
+            start += a.size
+            nonfinite = int(np.count_nonzero(~np.isfinite(part).all(axis=1)))
+            if nonfinite:
+                bad.setdefault(card, [0, n])[0] += nonfinite
+            for lo in range(0, a.size, CHUNK):
+                for text in _lines(card, part[lo:lo + CHUNK], json):
+                    if json and rows:
+                        out.write(",\n")
+                    out.write(text)
+                rows += min(CHUNK, a.size - lo)
+        batch.clear()
+        batched = 0
+
     for i, card in enumerate(deck.range_cards):
         thzero, delta, thmax = _exact(deck, i)
         n = count(thzero, delta, thmax)
@@ -203,25 +235,16 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
                  f"{float(thmax):g}: no positions (the 1966 program prints one sheet, "
                  "at THZERO)")
             continue
-        bad = 0
         for start in range(0, n, BLOCK):
-            ath2 = angles(thzero, delta, start, min(start + BLOCK, n))
-            with np.errstate(all="ignore"):
-                result = engine.analyze(deck.mechanism, ath2, outputs=wanted)
-            block = np.empty((ath2.size, len(wanted)))
-            for j, name in enumerate(wanted):
-                block[:, j] = result[name]
-            del result
-            bad += int(np.count_nonzero(~np.isfinite(block).all(axis=1)))
-            for lo in range(0, ath2.size, CHUNK):
-                for text in _lines(card, block[lo:lo + CHUNK], json):
-                    if json and rows:
-                        out.write(",\n")
-                    out.write(text)
-                rows += min(CHUNK, ath2.size - lo)
-        if bad:
-            warn(f"{deck.path}: card {card}: {bad} of {n} positions have values that are "
-                 f"not finite (written as {'null' if json else 'nan or inf'})")
+            a = angles(thzero, delta, start, min(start + BLOCK, n))
+            batch.append((card, n, a))
+            batched += a.size
+            if batched >= BLOCK:
+                flush()
+    flush()
+    for card, (nonfinite, n) in bad.items():
+        warn(f"{deck.path}: card {card}: {nonfinite} of {n} positions have values "
+             f"that are not finite (written as {'null' if json else 'nan or inf'})")
     out.write("\n]}\n" if json and rows else "]}\n" if json else "")
     return rows
 
