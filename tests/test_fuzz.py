@@ -157,3 +157,86 @@ def test_mutated_decks_kinematics_only_and_rendered(mutations):
 def test_unmutated_decks_list():
     check_run(mutate(EXAMPLE, []))
     check_run(mutate(FINE, []))
+
+
+# ----- decks drawn whole: lengths across 1E-90..1E90, ranges, arithmetic models, -o paths ----
+def _field(mantissa: int, exponent: int) -> bytes:
+    """An F8.4 field holding mantissa/10 x 10**exponent, right-justified."""
+    text = f"{mantissa // 10}.{mantissa % 10}E{exponent:+03d}"
+    return text.rjust(8).encode()
+
+
+length = st.builds(_field, st.integers(10, 99), st.integers(-90, 90))
+plain = st.sampled_from([b"    12.0", b"     4.0", b"    16.0", b"     0.0", b"    -4.0",
+                         b"   360.0", b"     0.5", b"  1.E-90", b"  1.E+90", b" -1.E-90"])
+angle = st.sampled_from([b"     0.0", b"    10.0", b"   360.0", b"   -30.0", b"   720.0",
+                         b"  1.E-90", b"  1.E+50", b"     0.5", b"    -1.0", b"  1.E-10"])
+OUTPUTS = ("stdout", "new", "existing", "input", "folder", "nested")
+
+
+usual = st.sampled_from([[b"    10.0", b"    10.0", b"   360.0"], [b"     0.0", b"    30.0",
+                         b"   360.0"], [b"    45.0", b"     1.0", b"    50.0"]])
+
+
+@st.composite
+def drawn_decks(draw):
+    if draw(st.booleans()):  # the example's linkage at any scale: a crank-rocker
+        k = draw(st.integers(-85, 85))
+        lengths = [_field(12, k + 1), _field(40, k), _field(16, k + 1), _field(12, k + 1)]
+        centres = [_field(20, k), _field(80, k), _field(60, k)]
+    else:  # anything: most are refused, naming the card
+        lengths = draw(st.lists(st.one_of(length, plain), min_size=4, max_size=4))
+        centres = draw(st.lists(st.one_of(length, plain), min_size=3, max_size=3))
+    ranges = draw(st.lists(st.one_of(usual, usual, st.lists(angle, min_size=3, max_size=3)),
+                           min_size=1, max_size=3))
+    cards = [b"     3.0     8.0     6.0", b"     0.0     0.5     0.4", b"".join(lengths),
+             b"     0.0   -15.0    15.0", b"".join(centres), draw(st.one_of(plain, length))]
+    cards += [b"".join(r) for r in ranges]
+    return b"\n".join(cards) + b"\n"
+
+
+@settings(PROFILE, max_examples=max(PROFILE.max_examples // 2, 50))
+@given(drawn_decks(), st.sampled_from(["run", "check", "table"]),
+       st.sampled_from(["float64", "float32", "ibm1410"]), st.sampled_from(OUTPUTS))
+def test_drawn_decks_every_command_every_output(data, command, arith, output):
+    """Whatever the deck, model and -o: exit 0, 2 or 3 with at most one error line, no
+    traceback, the input unchanged, an existing output unchanged unless the run succeeded,
+    and no temporary file left behind."""
+    with tempfile.TemporaryDirectory() as directory:
+        path = os.path.join(directory, "deck.dat")
+        with open(path, "wb") as f:
+            f.write(data)
+        target = {"stdout": None, "new": os.path.join(directory, "new.out"),
+                  "existing": os.path.join(directory, "old.out"), "input": path,
+                  "folder": directory,
+                  "nested": os.path.join(directory, "a", "b", "c.out")}[output]
+        if output == "existing":
+            with open(target, "w") as f:
+                f.write("precious\n")
+        argv = [command, path]
+        if command == "run":
+            argv += ["--arith", arith, "--max-sheets", "5"]
+        if command == "table":
+            argv += ["--only", "kinematics"]
+        if target is not None and command != "check":
+            argv += ["-o", target]
+        out, err = io.StringIO(), io.StringIO()
+        start = time.perf_counter()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            status = main(argv)
+        elapsed = time.perf_counter() - start
+        left = sorted(os.listdir(directory))
+        with open(path, "rb") as f:
+            assert f.read() == data  # the input is never touched
+        if output == "existing":
+            with open(target) as f:
+                kept = f.read() == "precious\n"
+            assert kept or (status == 0 and command != "check"), (status, err.getvalue())
+    assert "Traceback" not in err.getvalue()
+    assert status in (0, 2, 3), (status, err.getvalue())
+    errors = [x for x in err.getvalue().splitlines() if not x.startswith(DIAGNOSTIC)]
+    assert len(errors) == (status != 0), err.getvalue()
+    assert not [n for n in left if n.endswith(".tmp") or ".tmp." in n], left
+    assert elapsed < 60, (elapsed, data)
+    if currently_in_test_context():
+        event(f"{command} exit {status}")

@@ -27,7 +27,7 @@ unless ``--max-sheets`` says how many to print.
 
 from __future__ import annotations
 
-from sielaff.arithmetic import get_arithmetic
+from sielaff.arithmetic import ArithmeticError1410, get_arithmetic
 
 __all__ = ["MAX_SHEETS", "sheet_count"]
 
@@ -52,7 +52,7 @@ def sheet_count(thzero: float, delta: float, thmax: float,
     def past(i: int) -> bool:
         try:
             return bool(TH + num(i) * DELTA > THMAX)
-        except (OverflowError, ArithmeticError):
+        except (OverflowError, ArithmeticError, ArithmeticError1410):
             return True  # the arithmetic stops the loop there (an error, not a sheet)
 
     if past(1):
