@@ -1,15 +1,19 @@
 """Command line: ``sielaff run|diff|...``.
 
+Parser and dispatch; what the commands share is in ``sielaff.common``.
+
 Every failure is one line on stderr and a non-zero exit status: 2 for a deck
 or arithmetic the program cannot use (or an output file that cannot be
 written), 3 for a mechanism that is not a crank-rocker, 1 for ``diff`` when
-the listings differ, 130 for Ctrl-C.  ``--debug`` shows the traceback instead.
+the listings differ, 130 for Ctrl-C, 128 + N for signal N (SIGTERM 143,
+SIGHUP 129).  ``--debug`` shows the traceback instead.
 
 Besides that one error line, stderr carries only *diagnostics*: lines that
 begin ``sielaff: warning: `` (the deck's warnings, a ``--max-sheets`` stop)
 or ``sielaff: 1966 quirk: `` (what the 1966 program does oddly for this
 deck).  A run that exits 0 prints no error line.  A closed pipe
-(``sielaff run deck | head``) ends the run quietly with status 0.
+(``sielaff run deck | head``) ends the run quietly with status 0; ``check``
+and ``diff``, which know their status before they print, keep it.
 """
 
 from __future__ import annotations

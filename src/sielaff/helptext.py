@@ -17,7 +17,8 @@ exit status (every command):
        names the card and columns, or the field), a range that never ends, an
        output file that cannot be written
   3    not a crank-rocker (run prints the 1966 message; table, check, plot refuse)
-  130  interrupted (Ctrl-C); no output file was changed"""
+  130  interrupted (Ctrl-C); no output file was changed
+  143  ended by SIGTERM (timeout, kill); 129 by SIGHUP: no output file was changed"""
 
 #: The report's example deck, as decks/example.dat has it (a test checks they agree).
 EXAMPLE_CARDS = """\
