@@ -6,7 +6,7 @@
 
 import sys
 
-from sielaff.bench import main
+from sielaff.tools.bench import main
 
 if __name__ == "__main__":
     sys.exit(main())

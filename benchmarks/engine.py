@@ -55,8 +55,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
 
 from sielaff import engine  # noqa: E402
-from sielaff.cards import Deck, Range, parse_deck  # noqa: E402
-from sielaff.program import SHEET_FIELDS, Program  # noqa: E402
+from sielaff.emulator.cards import Deck, Range, parse_deck  # noqa: E402
+from sielaff.emulator.program import SHEET_FIELDS, Program  # noqa: E402
 
 DOC = ROOT / "docs" / "performance.md"
 HEADING = "## Engine"
@@ -276,7 +276,7 @@ def main(argv=None) -> int:
     k = args.port_positions
     port_deck = Deck(mechanism=m, ranges=[Range(THZERO, DELTA, THZERO + (k - 2) * DELTA)],
                      range_cards=[7], path="<benchmark>")
-    from sielaff.arithmetic import Float64
+    from sielaff.emulator.arithmetic import Float64
 
     t_port, sheets = median_time(lambda: Program(Float64()).MAIN(port_deck, lambda *a: None),
                                  3)

@@ -86,10 +86,10 @@ def peak_rss_mb(deck: Path, sheets: int) -> tuple[float, float]:
 
 def in_process_split(deck_path: Path, repeat: int) -> tuple[float, float]:
     """Best CPU seconds of (the port alone with a WRITE that does nothing, the whole run)."""
-    from sielaff.arithmetic import get_arithmetic
-    from sielaff.cards import read_deck
-    from sielaff.emulator import run
-    from sielaff.program import Program
+    from sielaff.emulator.arithmetic import get_arithmetic
+    from sielaff.emulator.cards import read_deck
+    from sielaff.emulator.program import Program
+    from sielaff.emulator.run import run
 
     deck = read_deck(deck_path)
 

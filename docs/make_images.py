@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import os
 
-from sielaff.cards import read_deck
-from sielaff.plots import plot_data, render
+from sielaff.emulator.cards import read_deck
+from sielaff.tools.plot import plot_data, render
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

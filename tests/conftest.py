@@ -32,14 +32,14 @@ def split_sheets(text: str) -> list[list[str]]:
 
 @pytest.fixture(scope="session")
 def example_deck():
-    from sielaff.cards import read_deck
+    from sielaff.emulator.cards import read_deck
 
     return read_deck(DECKS / "example.dat")
 
 
 @pytest.fixture(scope="session")
 def example_listing(example_deck) -> str:
-    from sielaff.emulator import run
+    from sielaff.emulator.run import run
 
     buf = io.StringIO()
     run(example_deck, buf)

@@ -11,12 +11,12 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from sielaff import bench
-from sielaff import program as program_module
-from sielaff.arithmetic import get_arithmetic
-from sielaff.ibm1410 import IBM1410
+from sielaff.emulator import program as program_module
+from sielaff.emulator.arithmetic import get_arithmetic
+from sielaff.emulator.arithmetic.ibm1410 import IBM1410
+from sielaff.emulator.program import Program, ProgramError
 from sielaff.mechanism import EXAMPLE, crank_rocker_failure
-from sielaff.program import Program, ProgramError
+from sielaff.tools.bench import study as bench
 
 # ----- Figures 10 and 11: what each model prints, field by field -------------------------
 #: model -> (the fields it certainly prints differently from the figures,
@@ -104,9 +104,9 @@ def test_ibm1410_default_matches_all_82_fields_exactly():
     import io
 
     from conftest import GOLDEN, split_sheets
-    from sielaff.cards import read_deck
-    from sielaff.emulator import run
-    from sielaff.program import SheetLimit
+    from sielaff.emulator.cards import read_deck
+    from sielaff.emulator.program import SheetLimit
+    from sielaff.emulator.run import run
 
     out = io.StringIO()
     with pytest.raises(SheetLimit):

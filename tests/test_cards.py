@@ -1,4 +1,4 @@
-"""The 4F8.4 card reader (sielaff.cards): F-format input rules and deck errors."""
+"""The 4F8.4 card reader (sielaff.emulator.cards): F-format input rules and deck errors."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-from sielaff.cards import (
+from sielaff.emulator.cards import (
     Deck,
     DeckError,
     Range,
@@ -472,7 +472,7 @@ def test_deliberate_fields_are_not_warned_about(field):
 
 
 def test_check_verdict_mentions_the_trap(tmp_path):
-    from sielaff.check import check_deck
+    from sielaff.tools.check import check_deck
 
     deck = parse_deck(_trap_deck("3:      10       2       9       6"), "d.dat")
     text = check_deck(deck).text

@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 
 from conftest import DECKS
-from sielaff.cards import parse_deck, read_deck
-from sielaff.check import check_deck, range_sheets
 from sielaff.cli import main
-from sielaff.emulator import run, sheet_values
+from sielaff.emulator.cards import parse_deck, read_deck
+from sielaff.emulator.program import SheetLimit
+from sielaff.emulator.run import run, sheet_values
 from sielaff.engine import OUTPUTS, analyze
 from sielaff.mechanism import EXAMPLE
-from sielaff.program import SheetLimit
+from sielaff.tools.check import check_deck, range_sheets
 
 # A number as printed: not part of a name (R2, TH2D, ATH2.GT.THMAX).
 NUM = re.compile(r"(?<![\w.])-?(?:\d[\d,]*(?:\.\d*)?|\.\d+)(?:e[-+]?\d+)?(?![\w])")
@@ -72,7 +72,7 @@ def example_report():
 
 
 def expected_example_report(example_listing: str) -> str:
-    """The report for decks/example.dat, every number computed without sielaff.check."""
+    """The report for decks/example.dat, every number computed without sielaff.tools.check."""
     # The sheets the 1966 listing prints, and the notices of the run, from the emulator.
     deck = read_deck(DECKS / "example.dat")
     angles = [s["ATH2"] for s in sheet_values(deck, kinematics_only=True)]
@@ -255,7 +255,7 @@ def test_huge_deck_is_predicted_not_run():
         calls.append(max_sheets)
         raise SheetLimit(max_sheets)
 
-    with mock.patch("sielaff.emulator.run", fake_run):
+    with mock.patch("sielaff.emulator.run.run", fake_run):
         rep = check_deck(deck, sheet_limit=50)
     assert calls == [50]
     text = _flat(rep.text)
@@ -343,7 +343,7 @@ def test_tan_standin_and_library_notices_listed(tmp_path):
             notice("library", f"SQRT of negative argument -1e-1{k}: using SQRT(ABS(X))")
         return 37
 
-    with mock.patch("sielaff.emulator.run", fake_run):
+    with mock.patch("sielaff.emulator.run.run", fake_run):
         rep = check_deck(read_deck(DECKS / "example.dat"))
     text = _flat(rep.text)
     assert "THETA 2 = 90: COS(TH3) is exactly 0, the 1966 program uses TAN3 = 0.9E+25" in text
@@ -353,12 +353,12 @@ def test_tan_standin_and_library_notices_listed(tmp_path):
 
 
 def test_failing_1966_arithmetic_exit_2():
-    from sielaff.program import ProgramError
+    from sielaff.emulator.program import ProgramError
 
     def fake_run(deck, out, notice=None, max_sheets=None, **kw):
         raise ProgramError("TORQ is inf: the 1966 arithmetic overflows or divides by zero")
 
-    with mock.patch("sielaff.emulator.run", fake_run):
+    with mock.patch("sielaff.emulator.run.run", fake_run):
         rep = check_deck(read_deck(DECKS / "example.dat"))
     assert rep.status == 2
     assert "the 1966 arithmetic fails: TORQ is inf" in rep.error

@@ -19,8 +19,8 @@ import random
 import pytest
 
 from conftest import DECKS
-from sielaff.cards import parse_deck
-from sielaff.emulator import sheet_values
+from sielaff.emulator.cards import parse_deck
+from sielaff.emulator.run import sheet_values
 
 try:
     import fortran
@@ -113,6 +113,6 @@ def test_not_a_crank_rocker_both_stop(exe):
     text = deck_text((3, 8, 6), (0, .5, .4), (30, 4, 16, 12), (0, -15, 15), (2, 8, 6), 50,
                      [(10, 10, 360)])
     assert fortran.not_crank_rocker(fortran.run_deck_text(exe, text))
-    from sielaff.program import NotCrankRocker
+    from sielaff.emulator.program import NotCrankRocker
     with pytest.raises(NotCrankRocker):
         list(sheet_values(parse_deck(text)))

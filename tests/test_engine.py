@@ -500,8 +500,9 @@ def test_cycle_work_with_external_torque():
 def test_kinematics_never_runs_the_force_steps():
     ath2 = np.linspace(0.0, 360.0, 37)
     engine.STEP_CALLS.clear()
-    with mock.patch.object(engine, "_force_link4", wraps=engine._force_link4) as f4, \
-            mock.patch.object(engine, "_force_link3", wraps=engine._force_link3) as f3:
+    forces = engine.forces
+    with mock.patch.object(forces, "_force_link4", wraps=forces._force_link4) as f4, \
+            mock.patch.object(forces, "_force_link3", wraps=forces._force_link3) as f3:
         r = analyze(EXAMPLE, ath2, outputs=KINEMATICS)
         assert f4.call_count == 0 and f3.call_count == 0
         assert set(r) == set(KINEMATICS)
@@ -519,14 +520,14 @@ def test_massless_coupler_skips_its_superposition_step():
     m0 = dataclasses.replace(EXAMPLE, W3=0.0, ZI3=0.0)
     m_tiny = dataclasses.replace(EXAMPLE, W3=1e-300, ZI3=1e-300)
     engine.STEP_CALLS.clear()
-    with mock.patch.object(engine, "_force_link3", wraps=engine._force_link3) as f3:
+    with mock.patch.object(engine.forces, "_force_link3", wraps=engine.forces._force_link3) as f3:
         r0 = analyze(m0, ath2, engine.OUTPUTS)
         assert f3.call_count == 0
     assert engine.STEP_CALLS["_force_link3"] == 0
     assert engine.STEP_CALLS["_inertia_force3"] == 0 and engine.STEP_CALLS["_inertia_torque3"] == 0
     assert engine.STEP_CALLS["_force_link4"] == 1
     r_tiny = analyze(m_tiny, ath2, engine.OUTPUTS)
-    with mock.patch.object(engine, "_force_link3", wraps=engine._force_link3) as f3:
+    with mock.patch.object(engine.forces, "_force_link3", wraps=engine.forces._force_link3) as f3:
         analyze(m_tiny, ath2, ["TORQ"])
         assert f3.call_count == 1  # a (barely) massive coupler does run it
     for name in engine.OUTPUTS:
@@ -697,6 +698,8 @@ def test_cli_turns_python_warnings_into_one_line(capsys, monkeypatch):
         warnings.warn("something odd", RuntimeWarning, stacklevel=1)
         return 0
 
-    monkeypatch.setattr(cli, "cmd_help", noisy)
+    from sielaff.tools import helptext
+
+    monkeypatch.setattr(helptext, "cmd_help", noisy)
     assert cli.main(["help"]) == 0
     assert capsys.readouterr().err == "sielaff: warning: something odd\n"

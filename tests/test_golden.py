@@ -18,8 +18,8 @@ import re
 import pytest
 
 from conftest import GOLDEN, split_sheets
-from sielaff import bench
-from sielaff.listing import diff_listings, parse_listing
+from sielaff.emulator.listing import diff_listings, parse_listing
+from sielaff.tools.bench import study as bench
 
 # (THETA 2, field) -> (float64 prints on every machine, the 1410 printed)
 FLOAT64_DIFFERENCES = {

@@ -13,7 +13,7 @@ import pytest
 from conftest import DECKS, GOLDEN, ROOT
 from sielaff import __version__
 from sielaff.cli import build_parser, main
-from sielaff.helptext import EXAMPLE_CARDS, TOPICS
+from sielaff.tools.helptext import EXAMPLE_CARDS, TOPICS
 
 
 def helps() -> dict[str, str]:

@@ -1,6 +1,6 @@
 """The IBM 1410 number model: K-digit truncating decimal floating point and its library.
 
-The oracles here are written independently of ``sielaff.ibm1410``: Python
+The oracles here are written independently of ``sielaff.emulator.arithmetic.ibm1410``: Python
 ``decimal`` with explicit truncation for the arithmetic, ``mpmath`` for the
 library, and an operator-level restatement of the library algorithms.
 """
@@ -19,9 +19,9 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from sielaff import ibm1410 as mod
-from sielaff.arithmetic import ArithmeticError1410, get_arithmetic
-from sielaff.ibm1410 import D1410, IBM1410, VARIANTS
+from sielaff.emulator.arithmetic import ArithmeticError1410, get_arithmetic
+from sielaff.emulator.arithmetic.ibm1410 import D1410, IBM1410, VARIANTS
+from sielaff.emulator.arithmetic.ibm1410 import library as mod
 
 A8 = IBM1410(8)
 A12 = IBM1410(12)
@@ -493,7 +493,8 @@ def test_loops_are_bounded(monkeypatch):
 class OperatorLibrary:
     """The module docstring's algorithms written with ``+ - * /`` on model numbers.
 
-    ``sielaff.ibm1410`` runs them on raw (mantissa, exponent) pairs for speed; the
+    ``sielaff.emulator.arithmetic.ibm1410`` runs them on raw (mantissa, exponent) pairs for
+    speed; the
     two must agree digit for digit.
     """
 

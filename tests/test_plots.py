@@ -11,10 +11,10 @@ import pytest
 
 from conftest import DECKS
 from sielaff import engine
-from sielaff.cards import parse_deck, read_deck
+from sielaff.emulator.cards import parse_deck, read_deck
 from sielaff.engine import analyze
 from sielaff.mechanism import EXAMPLE
-from sielaff.plots import plot_data, sample_angles
+from sielaff.tools.plot import plot_data, sample_angles
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 FORCE_FILES = [
@@ -288,7 +288,7 @@ OVERLAP_DECKS = [
 def test_no_two_labels_overlap(cards, mechanism):
     """Through matplotlib's renderer: no two text boxes of any figure intersect (titles,
     tick and ring labels, THETA 2 marks, legend entries)."""
-    from sielaff import plots
+    from sielaff.tools import plot as plots
 
     deck = deck_with(*cards)
     if mechanism == "long-rocker":
@@ -309,7 +309,7 @@ def test_no_two_labels_overlap(cards, mechanism):
 
 
 def test_overlap_detector_detects():
-    from sielaff import plots
+    from sielaff.tools import plot as plots
 
     plt = plots._pyplot()
     fig, ax = plt.subplots()

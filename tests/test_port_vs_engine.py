@@ -116,12 +116,12 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from conftest import DECKS
-from sielaff.arithmetic import Float64
-from sielaff.cards import Deck, Range, read_deck
-from sielaff.emulator import sheet_values
+from sielaff.emulator.arithmetic import Float64
+from sielaff.emulator.cards import Deck, Range, read_deck
+from sielaff.emulator.program import SHEET_FIELDS, Program
+from sielaff.emulator.run import sheet_values
 from sielaff.engine import G, analyze
 from sielaff.mechanism import EXAMPLE, Mechanism, crank_rocker_failure
-from sielaff.program import SHEET_FIELDS, Program
 from test_program import ARCCOS_BOUND
 
 EPS = float(np.finfo(float).eps)

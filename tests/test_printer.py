@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from sielaff.printer import Format, FormatError, decimal_parts, edit_e, edit_f, render
+from sielaff.emulator.printer import Format, FormatError, decimal_parts, edit_e, edit_f, render
 
 
 @pytest.mark.parametrize("value, text", [

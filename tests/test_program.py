@@ -12,10 +12,10 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from conftest import DECKS
-from sielaff.arithmetic import Float64
-from sielaff.cards import parse_deck
-from sielaff.emulator import run, sheet_values
-from sielaff.program import NotCrankRocker, Program
+from sielaff.emulator.arithmetic import Float64
+from sielaff.emulator.cards import parse_deck
+from sielaff.emulator.program import NotCrankRocker, Program
+from sielaff.emulator.run import run, sheet_values
 
 #: ARCCOS stops when two partial sums differ by less than 1E-8; the tail of
 #: the series past that point is below 1E-8 times a factor < 2 for |x| <= 0.7
@@ -178,7 +178,7 @@ def test_render_gives_form_feeds(tmp_path):
 
 def test_kinematics_only_drops_statements_133_to_202_and_their_writes(example_deck,
                                                                        example_listing):
-    from sielaff.listing import parse_listing
+    from sielaff.emulator.listing import parse_listing
 
     out = io.StringIO()
     assert run(example_deck, out, kinematics_only=True) == 37

@@ -11,9 +11,9 @@ import sys
 import pytest
 
 from conftest import DECKS
-from sielaff.cards import parse_deck, read_deck
-from sielaff.emulator import run
-from sielaff.progress import Progress, estimate_sheets, run_progress
+from sielaff.emulator.cards import parse_deck, read_deck
+from sielaff.emulator.run import run
+from sielaff.tools.progress import Progress, estimate_sheets, run_progress
 
 PARAMETERS = "".join((DECKS / "example.dat").read_text().splitlines(keepends=True)[:6])
 LONG_DECK = PARAMETERS + "     0.0   0.001   360.0\n"  # 360,002 sheets

@@ -31,8 +31,8 @@ from hypothesis import strategies as st
 
 from conftest import DECKS
 from sielaff.cli import main
-from sielaff.common import range_problem
-from sielaff.printer import Format, Unprintable, _strict_value, edit_e, edit_f, fast_editor
+from sielaff.emulator.printer import Format, Unprintable, _strict_value, edit_e, edit_f, fast_editor
+from sielaff.tools.common import range_problem
 
 EXAMPLE = (DECKS / "example.dat").read_text().splitlines()
 DIAGNOSTIC = ("sielaff: warning: ", "sielaff: 1966 quirk: ")
@@ -183,7 +183,7 @@ def test_missing_deck(tmp_path):
 
 def test_debug_shows_the_traceback_in_process(tmp_path):
     path = write_deck(tmp_path, cards((3, "    12.0  1.2.3     16.0    12.0")))
-    from sielaff.cards import DeckError
+    from sielaff.emulator.cards import DeckError
 
     with pytest.raises(DeckError) as info:
         cli("--debug", "run", path)
@@ -229,9 +229,9 @@ def test_the_port_itself_names_the_statement_dividing_by_r2_zero(tmp_path, arith
     divides by zero (for decks built in code)."""
     import io
 
-    from sielaff.cards import read_deck
-    from sielaff.emulator import run
-    from sielaff.program import ProgramError
+    from sielaff.emulator.cards import read_deck
+    from sielaff.emulator.program import ProgramError
+    from sielaff.emulator.run import run
 
     deck = read_deck(write_deck(tmp_path, cards((3, "    12.0     0.0    16.0    12.0"))))
     with pytest.raises(ProgramError) as exc:
@@ -341,7 +341,7 @@ def test_endless_second_range_card_is_refused_before_anything_is_printed(tmp_pat
 def test_negative_delta_past_thmax_is_one_sheet(tmp_path):
     # THZERO > THMAX: the loop prints one sheet and tests ATH2.GT.THMAX: it ends.
     path = write_deck(tmp_path, cards((7, "    20.0   -10.0    10.0")))
-    from sielaff.cards import read_deck
+    from sielaff.emulator.cards import read_deck
 
     assert range_problem(read_deck(path)) is None
     status, out, _ = cli("run", path)

@@ -68,7 +68,7 @@ def test_01_max_sheets_bounds_a_range_past_the_ceiling(tmp_path):
 
 
 def test_01_sheet_count_follows_the_arithmetic():
-    from sielaff.ranges import sheet_count
+    from sielaff.emulator.ranges import sheet_count
 
     assert sheet_count(10.0, 10.0, 360.0) == 37  # the example: one past THMAX
     assert sheet_count(10.0, 1e-90, 10.0, "float32") is None  # 1E-90 underflows to 0
@@ -157,7 +157,7 @@ def test_05_dev_zero_and_a_sparse_file_fail_at_once():
 
 
 def test_05_a_line_longer_than_a_card_is_read_only_as_far_as_needed(tmp_path):
-    from sielaff import cards as cards_module
+    from sielaff.emulator import cards as cards_module
 
     path = write_deck(tmp_path, [*EXAMPLE_LINES[:6], EXAMPLE_LINES[6] + "x" * 10**6])
     reads = []
@@ -212,7 +212,7 @@ def _peak_rss_kb_any(args: list[str]) -> int:
 # 6. plot interrupted: all files or none ------------------------------------------------------
 def test_06_interrupted_plot_changes_no_file(tmp_path):
     pytest.importorskip("matplotlib")
-    from sielaff import plots
+    from sielaff.tools import plot as plots
 
     folder = tmp_path / "plots"
     assert cli("plot", str(DECKS / "example.dat"), "-o", str(folder))[0] == 0
@@ -268,7 +268,7 @@ def test_08_another_arithmetic_refusing_names_card_3(tmp_path, arith):
 
 
 def test_08_the_port_says_which_test_failed_in_its_arithmetic():
-    from sielaff.program import _failed_test
+    from sielaff.emulator.program import _failed_test
 
     text = _failed_test(2.0, 3.0, 4.5, abs, "float32")
     assert text.startswith("IF(C.LT.(A+B-1.0)) fails in float32 arithmetic")
@@ -421,7 +421,7 @@ def test_14_card_messages(tmp_path, field, words):
 
 # 15. table with many range cards --------------------------------------------------------------
 def test_15_many_small_range_cards_share_engine_calls(tmp_path):
-    from sielaff import table
+    from sielaff.tools import table
 
     lines = EXAMPLE_LINES[:6] + [f"{k / 10:8.1f}     1.0{k / 10:8.1f}" for k in range(3000)]
     deck = write_deck(tmp_path, lines)

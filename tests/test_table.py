@@ -14,10 +14,11 @@ import numpy as np
 import pytest
 
 from conftest import DECKS
-from sielaff import engine, table
-from sielaff.cards import Range, parse_deck, read_deck
+from sielaff import engine
 from sielaff.cli import main
+from sielaff.emulator.cards import Range, parse_deck, read_deck
 from sielaff.engine import analyze
+from sielaff.tools import table
 
 EXAMPLE_CARDS = (DECKS / "example.dat").read_text().splitlines()
 
@@ -261,7 +262,7 @@ def forbid_forces():
     stack = contextlib.ExitStack()
     for name in FORCE_STEPS:
         stack.enter_context(mock.patch.object(
-            engine, name, side_effect=AssertionError(f"{name} ran")))
+            engine.forces, name, side_effect=AssertionError(f"{name} ran")))
     return stack
 
 

@@ -66,10 +66,11 @@ def _proxy(module, names, direction: float) -> types.SimpleNamespace:
 
 def install(direction: float) -> None:
     """Nudge every transcendental result of the engine and the port by one ulp."""
-    import sielaff.arithmetic as arithmetic
-    import sielaff.engine as engine
+    import sielaff.emulator.arithmetic.base as arithmetic
+    from sielaff.engine import accelerations, analysis, forces, outputs, positions, velocities
 
-    engine.np = _proxy(np, NUMPY_FUNCS, direction)
+    for module in (positions, velocities, accelerations, forces, outputs, analysis):
+        module.np = _proxy(np, NUMPY_FUNCS, direction)
     arithmetic.math = _proxy(math, MATH_FUNCS, direction)
     for name in ("SIN", "COS", "ATAN"):
         setattr(arithmetic.Float32, name,

@@ -1,21 +1,30 @@
 """sielaff: Sielaff's 1966 crank-rocker program, emulated exactly, and a modern engine.
 
-* ``read_deck(path) -> Deck``: a card deck read with FORMAT(4F8.4).
-* ``Mechanism``: the deck's parameters, with the listing's names.
-* ``analyze(mechanism, ath2, outputs=None, tex=0.0)``: the modern numpy engine.
+The public API, in one place (everything else is reached through its module):
+
+* ``read_deck(path) -> Deck``, ``DeckError``: a card deck read with FORMAT(4F8.4)
+  (``sielaff.emulator.cards``).
+* ``Mechanism``, ``EXAMPLE``: the deck's parameters with the listing's names and units
+  (``sielaff.mechanism``); ``Mechanism.replace(**fields)`` for sweeps.
+* ``analyze(mechanism, ath2, outputs=None, tex=0.0) -> Results``, ``AssemblyWarning``:
+  the modern numpy engine (``sielaff.engine``).
+* ``__version__``.
+
+docs/architecture.md shows how the package is laid out.
 """
 
-from sielaff.cards import Deck, DeckError, read_deck
+from sielaff.emulator.cards import Deck, DeckError, read_deck
 from sielaff.mechanism import EXAMPLE, Mechanism
+from sielaff.version import __version__
 
-__all__ = ["EXAMPLE", "Deck", "DeckError", "Mechanism", "analyze", "read_deck"]
-__version__ = "0.1.0"
+__all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Mechanism", "Results",
+           "__version__", "analyze", "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
-    if name == "analyze":
-        from sielaff.engine import analyze
+    if name in ("analyze", "Results", "AssemblyWarning"):
+        from sielaff import engine
 
-        return analyze
+        return getattr(engine, name)
     raise AttributeError(f"module 'sielaff' has no attribute {name!r}")

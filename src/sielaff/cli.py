@@ -1,6 +1,6 @@
 """Command line: ``sielaff run|diff|...``.
 
-Parser and dispatch; what the commands share is in ``sielaff.common``.
+Parser and dispatch; what the commands share is in ``sielaff.tools.common``.
 
 Every failure is one line on stderr and a non-zero exit status: 2 for a deck
 or arithmetic the program cannot use (or an output file that cannot be
@@ -24,19 +24,14 @@ import sys
 import warnings
 from collections.abc import Callable, Sequence
 
-from sielaff.cards import DeckError
-from sielaff.common import (
+from sielaff.emulator.cards import DeckError
+from sielaff.tools.common import (
     EXIT_DECK,
     EXIT_INTERRUPTED,
-    EXIT_NOT_CRANK_ROCKER,
     CommandError,
     Terminated,
     install_signal_handlers,
-    load_runnable,
-    not_a_crank_rocker,
-    refuse_overwriting_inputs,
     silence_stdout,
-    write_stdout,
 )
 
 
@@ -49,169 +44,6 @@ def sheet_count(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number of sheets (0, 1, 2, ...)")
     return value
-
-
-# -- run --------------------------------------------------------------------
-def cmd_run(args: argparse.Namespace) -> int:
-    from sielaff.emulator import notice_printer, run
-    from sielaff.mechanism import crank_rocker_failure
-    from sielaff.output import atomic_output
-    from sielaff.printer import AsaRenderer
-    from sielaff.program import NotCrankRocker, ProgramError, SheetLimit
-    from sielaff.progress import run_progress
-
-    refuse_overwriting_inputs(args.output, [args.deck])
-    deck = load_runnable(args.deck, args.arith, args.max_sheets)
-    bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
-    notice = bar.wrap(notice_printer(sys.stderr))
-    with atomic_output(args.output) as out:
-        stream = AsaRenderer(out) if args.render else out
-        try:
-            with bar:
-                run(deck, stream, arithmetic=args.arith, notice=notice,
-                    kinematics_only=args.kinematics_only or args.only == "kinematics",
-                    max_sheets=args.max_sheets, progress=bar)
-        except NotCrankRocker as exc:
-            # The listing holds the 1966 message; an -o file is left as it was (exit 3).
-            if args.render:
-                stream.close()
-            raise CommandError(not_a_crank_rocker(deck) or f"{deck.path}: card 3: THIS IS "
-                               f"NOT A CRANK ROCKER MECHANISM: {exc}",
-                               EXIT_NOT_CRANK_ROCKER) from None
-        except SheetLimit as limit:
-            print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "
-                  "the deck asks for more", file=sys.stderr)
-        except ProgramError as exc:
-            raise CommandError(f"{deck.path}: {exc}") from exc
-        if args.render:
-            stream.close()
-    failure = crank_rocker_failure(deck.mechanism, deck.exact)
-    if failure:  # the 1966 test, in the run's arithmetic, let a change point through
-        notice("change-point", f"card 3: {failure}; the 1966 test of statements 45-51 passed "
-               f"by roundoff in {args.arith} arithmetic, so forces near the toggle are "
-               "meaningless")
-    return 0
-
-
-# -- bench ------------------------------------------------------------------
-def _need(module: str, extra: str, what: str) -> None:
-    import importlib
-
-    try:
-        importlib.import_module(module)
-    except ImportError:
-        raise CommandError(f"sielaff: {what} needs {module}, which is not installed "
-                           f"(pip install 'sielaff[{extra}]')") from None
-
-
-def cmd_bench(args: argparse.Namespace) -> int:
-    _need("mpmath", "bench", "bench (its 50-digit reference)")
-    if args.output:
-        _need("matplotlib", "bench", "bench -o (the report's figure)")
-        if os.path.isdir(args.output):
-            raise CommandError(f"sielaff: {args.output}: is a folder; -o names the report "
-                               "file (its PNG goes beside it)")
-        folder = os.path.dirname(os.path.abspath(args.output))
-        try:
-            os.makedirs(folder, exist_ok=True)
-        except OSError as exc:
-            raise CommandError(f"sielaff: {args.output}: cannot create its folder "
-                               f"({exc.strerror})") from exc
-        if not os.access(folder, os.W_OK):
-            raise CommandError(f"sielaff: {args.output}: its folder is not writable")
-    from sielaff.bench import headline, study, write_report
-
-    res = study(args.quick, progress=lambda s: print(f"sielaff bench: {s}", file=sys.stderr))
-    print(headline(res))
-    if args.output:
-        write_report(res, args.output,
-                     command="sielaff bench" + (" --quick" if args.quick else ""))
-        print(f"sielaff bench: wrote {args.output} and "
-              f"{os.path.splitext(args.output)[0]}.png", file=sys.stderr)
-    return 0
-
-
-# -- diff -------------------------------------------------------------------
-def cmd_diff(args: argparse.Namespace) -> int:
-    import contextlib
-
-    from sielaff.listing import ListingError, asa_records, diff_sheets, iter_sheets
-
-    class Named:
-        """A listing file's sheets, read as they are needed; errors name the file."""
-
-        def __init__(self, path: str, stack: contextlib.ExitStack) -> None:
-            self.path, self.count = path, 0
-            try:
-                f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
-            except OSError as exc:
-                raise CommandError(f"{path}: cannot read the listing ({exc.strerror})") from exc
-            self.sheets = iter_sheets(asa_records(_bounded_lines(f)))
-
-        def __iter__(self):
-            try:
-                for sheet in self.sheets:
-                    self.count += 1
-                    yield sheet
-            except ListingError as exc:
-                raise CommandError(f"{self.path}: {exc}") from None
-            except OSError as exc:
-                raise CommandError(f"{self.path}: cannot read the listing "
-                                   f"({exc.strerror})") from exc
-
-    status = 0
-    with contextlib.ExitStack() as stack:
-        listing, golden = Named(args.listing, stack), Named(args.golden, stack)
-        for line in diff_sheets(listing, golden):
-            status = 1
-            if not write_stdout(line + "\n"):
-                break  # the reader went away; the listings differ all the same
-        if golden.count == 0:
-            raise CommandError(f"{args.golden}: no sheet in the golden listing (empty, or not "
-                               "a listing): nothing to compare")
-    return status
-
-
-def _bounded_lines(f, limit: int = 1 << 16):
-    """The lines of ``f``, each cut at ``limit`` characters (the rest of a longer line is
-    read and dropped, a block at a time): a listing line is 133 characters, and a file with
-    no line ends must not be read into memory whole."""
-    while True:
-        line = f.readline(limit)
-        if not line:
-            return
-        if len(line) == limit and not line.endswith("\n"):
-            while True:
-                more = f.readline(limit)
-                if not more or more.endswith("\n"):
-                    break
-        yield line
-
-
-# -- table ------------------------------------------------------------------
-def cmd_table(args: argparse.Namespace) -> int:
-    from sielaff.table import cmd_table as table  # numpy only when asked for
-
-    return table(args)
-
-
-# -- check, plot, punch ----------------------------------------------------
-def cmd_check(args: argparse.Namespace) -> int:
-    from sielaff.check import cmd_check as check  # numpy only when asked for
-
-    return check(args)
-
-
-def cmd_plot(args: argparse.Namespace) -> int:
-    from sielaff.plots import cmd_plot as plot  # matplotlib only when asked for
-
-    return plot(args)
-
-
-def cmd_punch(args: argparse.Namespace) -> int:
-    from sielaff.punch import cmd_punch as punch
-
-    return punch(args)
 
 
 # -- parser -----------------------------------------------------------------
@@ -231,23 +63,27 @@ EXAMPLES = {
 }
 
 
-def cmd_help(args: argparse.Namespace) -> int:
-    from sielaff.helptext import TOPICS, topic_list
+#: Each command's function, imported when the command runs (numpy, matplotlib and the
+#: 1410 model load only for the commands that need them).
+COMMANDS = {
+    "run": "sielaff.tools.run:cmd_run", "diff": "sielaff.tools.run:cmd_diff",
+    "table": "sielaff.tools.table:cmd_table", "check": "sielaff.tools.check:cmd_check",
+    "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
+    "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
+}
 
-    if args.topic is None:
-        print(topic_list())
-        return 0
-    if args.topic not in TOPICS:
-        raise CommandError(f"sielaff: no help topic {args.topic!r} "
-                           f"({', '.join(TOPICS)})")
-    print(TOPICS[args.topic][1])
-    return 0
+
+def _command(name: str) -> Callable[[argparse.Namespace], int]:
+    import importlib
+
+    module, _, function = COMMANDS[name].partition(":")
+    return getattr(importlib.import_module(module), function)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from sielaff import __version__
-    from sielaff.helptext import EXIT_STATUS, topic_list
     from sielaff.quantities import CONVENTIONS
+    from sielaff.tools.helptext import EXIT_STATUS, topic_list
+    from sielaff.version import __version__
 
     parser = argparse.ArgumentParser(
         prog="sielaff",
@@ -263,16 +99,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"sielaff {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    def add(name: str, func: Callable, help_text: str) -> argparse.ArgumentParser:
+    def add(name: str, help_text: str) -> argparse.ArgumentParser:
         epilog = (EXAMPLES[name] + "\n\n" if name in EXAMPLES else "") + EXIT_STATUS
         p = sub.add_parser(name, help=help_text, description=help_text, epilog=epilog,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                        help="show tracebacks on failure")
-        p.set_defaults(func=func)
+        p.set_defaults(func=name)
         return p
 
-    p = add("run", cmd_run, "print the 1966 listing for a deck (ASA carriage control in column 1)")
+    p = add("run", "print the 1966 listing for a deck (ASA carriage control in column 1)")
     p.add_argument("deck")
     p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
     p.add_argument("--render", action="store_true",
@@ -288,7 +124,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-sheets", type=sheet_count, metavar="N",
                    help="stop cleanly after N sheets (a warning says so)")
 
-    p = add("table", cmd_table, "the modern engine's results for a deck, one row per "
+    p = add("table", "the modern engine's results for a deck, one row per "
             "position from THZERO to THMAX (CSV or JSON)")
     p.add_argument("deck")
     p.add_argument("--format", choices=("csv", "json"), default="csv",
@@ -301,12 +137,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "has 'units' and 'descriptions' beside 'columns'")
     p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
 
-    p = add("diff", cmd_diff, "compare a listing with a golden printout, field by field "
+    p = add("diff", "compare a listing with a golden printout, field by field "
             "(either may be --render text); exit 1 if they differ")
     p.add_argument("listing")
     p.add_argument("golden")
 
-    p = add("bench", cmd_bench, "accuracy against cost of the number models, ARCCOS and step "
+    p = add("bench", "accuracy against cost of the number models, ARCCOS and step "
                                 "size: a table on stdout, and a report with -o (needs mpmath)")
     p.add_argument("--quick", action="store_true",
                    help="fewer ARCCOS points and port steps, one timing round "
@@ -314,11 +150,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="REPORT.md",
                    help="also write the markdown report here and its PNG beside it "
                         "(folders created); nothing is written without -o")
-    p = add("check", cmd_check, "report on a deck: values, Grashof and crank-rocker margins, "
+    p = add("check", "report on a deck: values, Grashof and crank-rocker margins, "
             "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
     p.add_argument("deck")
 
-    p = add("plot", cmd_plot, "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
+    p = add("plot", "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
             "diagrams of the other two bearings (the report's 15 and 17, captions lost), "
             "from the modern engine: fig12-driving-torque.png, fig13-force-4-on-1.png, "
             "fig14-force-3-on-4-rel-link4.png, fig16-shaking-force.png, force-2-on-1.png, "
@@ -331,11 +167,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: velocity and acceleration curves instead of the forces")
 
-    p = add("help", cmd_help, "help on a topic: deck (the card layout and units), "
+    p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")
     p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
 
-    p = add("punch", cmd_punch, "punch an 80-column deck from a TOML spec with names and units "
+    p = add("punch", "punch an 80-column deck from a TOML spec with names and units "
             "(see decks/example.toml)")
     p.add_argument("spec", metavar="SPEC.toml")
     p.add_argument("-o", "--output", metavar="DECK",
@@ -379,7 +215,7 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     try:
-        return args.func(args)
+        return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
         if debug:
             raise

@@ -65,13 +65,13 @@ import re
 import tomllib
 from decimal import Decimal
 
-from sielaff.cards import read_field_decimal
+from sielaff.emulator.cards import read_field_decimal
 from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
 
 __all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "spec_values"]
 
-from sielaff.common import EXIT_DECK as EXIT_SPEC  # noqa: E402
-from sielaff.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
+from sielaff.tools.common import EXIT_DECK as EXIT_SPEC  # noqa: E402
+from sielaff.tools.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
 
 WIDTH = 8
 
@@ -309,8 +309,8 @@ def punch_file(path: str | os.PathLike[str]) -> str:
 
 def cmd_punch(args) -> int:
     """``sielaff punch SPEC.toml [-o DECK]``."""
-    from sielaff.common import CommandError, refuse_overwriting_inputs
-    from sielaff.output import atomic_output
+    from sielaff.tools.common import CommandError, refuse_overwriting_inputs
+    from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.spec])
     try:

@@ -6,7 +6,10 @@ stated here once and every command's ``--help`` ends with them.
 
 from __future__ import annotations
 
+import argparse
+
 from sielaff.quantities import CONVENTIONS
+from sielaff.tools.common import CommandError
 
 #: The exit status of every command, the same everywhere.
 EXIT_STATUS = """\
@@ -92,3 +95,16 @@ TOPICS = {
 def topic_list() -> str:
     return "help topics (sielaff help TOPIC):\n" + "\n".join(
         f"  {name:<12} {summary}" for name, (summary, _) in TOPICS.items())
+
+
+def cmd_help(args: argparse.Namespace) -> int:
+    from sielaff.tools.helptext import TOPICS, topic_list
+
+    if args.topic is None:
+        print(topic_list())
+        return 0
+    if args.topic not in TOPICS:
+        raise CommandError(f"sielaff: no help topic {args.topic!r} "
+                           f"({', '.join(TOPICS)})")
+    print(TOPICS[args.topic][1])
+    return 0

@@ -27,7 +27,7 @@ unless ``--max-sheets`` says how many to print.
 
 from __future__ import annotations
 
-from sielaff.arithmetic import ArithmeticError1410, get_arithmetic
+from sielaff.emulator.arithmetic import ArithmeticError1410, get_arithmetic
 
 __all__ = ["MAX_SHEETS", "sheet_count"]
 
@@ -42,7 +42,7 @@ def sheet_count(thzero: float, delta: float, thmax: float,
     """Sheets the 1966 loop prints for one range card, or None if it never ends.
 
     ``arithmetic`` is a name (``float64``, ``float32``, ``ibm1410:8``) or an
-    arithmetic object (:mod:`sielaff.arithmetic`).
+    arithmetic object (:mod:`sielaff.emulator.arithmetic`).
     """
     ar = get_arithmetic(arithmetic)
     num = ar.num

@@ -1,6 +1,6 @@
 """Number models that the line-by-line port runs on.
 
-The port (``sielaff.program``) is written once, in plain operators, and an
+The port (``sielaff.emulator.program``) is written once, in plain operators, and an
 *arithmetic* is swapped underneath it.  An arithmetic provides:
 
 * ``num(value)``   -- convert a constant, a card value (float) or an int
@@ -16,7 +16,7 @@ The port (``sielaff.program``) is written once, in plain operators, and an
   print an error message and go on (SQRT of a negative argument).
 
 Models: ``float64`` (default), ``float32``, ``ibm1410[:K][,VARIANT]`` (see
-``sielaff.ibm1410``).  ``get_arithmetic(name)`` builds one by name.
+``sielaff.emulator.arithmetic.ibm1410``).  ``get_arithmetic(name)`` builds one by name.
 """
 
 from __future__ import annotations
@@ -90,37 +90,3 @@ class Float32:
             self.on_error(f"SQRT of negative argument {x}: using SQRT(ABS(X))")
             x = -x
         return np.sqrt(np.float32(x))
-
-
-def get_arithmetic(name, on_error: Callable[[str], None] = _ignore):
-    """Build an arithmetic by name: ``float64``, ``float32``, ``ibm1410[:K][,VARIANT]``.
-
-    ``VARIANT`` picks the 1410 library algorithms (``sielaff.ibm1410``), e.g.
-    ``ibm1410:8,taylor`` or ``ibm1410,trig=octant``.  An arithmetic object (anything
-    with ``num`` and ``SIN``) is returned as it is.
-    """
-    if not isinstance(name, str):
-        if hasattr(name, "num") and hasattr(name, "SIN"):
-            return name
-        raise TypeError(f"not an arithmetic: {name!r}")
-    if name == "float64":
-        return Float64(on_error)
-    if name == "float32":
-        return Float32(on_error)
-    if name == "ibm1410" or name.startswith(("ibm1410:", "ibm1410,")):
-        from sielaff.ibm1410 import IBM1410
-
-        head, _, variant = name.partition(",")
-        digits = 8
-        if ":" in head:
-            try:
-                digits = int(head.split(":", 1)[1])
-            except ValueError:
-                raise ValueError(f"bad arithmetic {name!r}: K must be a whole number") from None
-        if variant:
-            return IBM1410(digits, on_error, variant=variant)
-        return IBM1410(digits, on_error)
-    raise ValueError(f"unknown arithmetic {name!r} (float64, float32, ibm1410[:K][,VARIANT])")
-
-
-MODELS = ("float64", "float32", "ibm1410")

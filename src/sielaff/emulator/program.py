@@ -16,11 +16,11 @@ listing's, quirks included:
   deck ends.
 
 The arithmetic is not written in here: ``Program(ar)`` runs on any model
-from ``sielaff.arithmetic`` (float64, float32, ibm1410:K).  Literals such
+from ``sielaff.emulator.arithmetic`` (float64, float32, ibm1410:K).  Literals such
 as ``2.0`` stay in the code as in the listing; each model converts them
 (the 1410 by truncation to K digits).
 
-Inputs: a ``sielaff.cards.Deck`` (mechanism fields in the report's units:
+Inputs: a ``sielaff.emulator.cards.Deck`` (mechanism fields in the report's units:
 lb, in-lb-sec^2, in, degrees, rad/sec; range cards in degrees).
 Outputs: WRITE calls ``write(format_number, *values)``; quirks the 1410
 would not have mentioned go to ``notice(kind, text)`` (stderr in the CLI).

@@ -43,7 +43,7 @@ from decimal import Decimal
 
 import numpy as np
 
-from sielaff.cards import PARAMETER_CARDS, Deck
+from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.mechanism import UNITS, Mechanism, crank_rocker_failure
 
 __all__ = [
@@ -51,8 +51,8 @@ __all__ = [
     "range_sheets", "revolution",
 ]
 
-from sielaff.common import EXIT_DECK as EXIT_UNUSABLE  # noqa: E402
-from sielaff.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
+from sielaff.tools.common import EXIT_DECK as EXIT_UNUSABLE  # noqa: E402
+from sielaff.tools.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
 
 EXIT_OK = 0
 #: Range cards reported one by one; the rest are counted.
@@ -282,7 +282,7 @@ def _deck_section(deck: Deck, rep: CheckReport, sheets: list[RangeSheets]) -> No
 def _more_sheets(deck: Deck, start: int) -> int:
     """Sheets of the range cards from ``start`` on (0 for one that never ends: the quirks
     and the verdict say so)."""
-    from sielaff.ranges import sheet_count
+    from sielaff.emulator.ranges import sheet_count
 
     return sum(sheet_count(*deck.ranges[i]) or 0 for i in range(start, len(deck.ranges)))
 
@@ -418,7 +418,7 @@ class _NullSink:
 def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
                    sheet_limit: int) -> str | None:
     """The quirks; returns the one-line reason if the deck is unusable."""
-    from sielaff.common import range_problem
+    from sielaff.tools.common import range_problem
 
     rep.add("1966 quirks this deck triggers in sielaff run")
     rep.add("  (docs/quirks.md; the modern engine has none of them)")
@@ -470,8 +470,8 @@ def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
 def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
               sheet_limit: int) -> str | None:
     """Run the port without printing; add the quirks only a run shows."""
-    from sielaff.emulator import run
-    from sielaff.program import ProgramError, SheetLimit
+    from sielaff.emulator.program import ProgramError, SheetLimit
+    from sielaff.emulator.run import run
 
     total = sum(rs.count or 0 for rs in sheets) + _more_sheets(deck, len(sheets))
     notes = _Collector()
@@ -496,7 +496,7 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
 
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     """The report for ``deck`` (see the module doc)."""
-    from sielaff.common import mechanism_problem, results_problem
+    from sielaff.tools.common import mechanism_problem, results_problem
 
     rep = CheckReport()
     rep.add(f"sielaff check: {deck.path}")
@@ -557,8 +557,8 @@ def cmd_check(args) -> int:
     import os
     import sys
 
-    from sielaff.cards import read_deck
-    from sielaff.common import CommandError, write_stdout
+    from sielaff.emulator.cards import read_deck
+    from sielaff.tools.common import CommandError, write_stdout
 
     if not os.path.lexists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")

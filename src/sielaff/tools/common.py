@@ -14,7 +14,7 @@ import signal
 import sys
 from collections.abc import Iterable
 
-from sielaff.cards import PARAMETER_CARDS, Deck, read_deck
+from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
 
 EXIT_DIFFERENT, EXIT_DECK, EXIT_NOT_CRANK_ROCKER, EXIT_INTERRUPTED = 1, 2, 3, 130
 
@@ -122,10 +122,10 @@ def mechanism_problem(deck: Deck) -> CommandError | None:
 def range_problem(deck: Deck, arithmetic="float64", max_sheets: int | None = None
                   ) -> CommandError | None:
     """The first range card the 1966 loop would never leave, or whose sheets (with the
-    cards before it) pass the ceiling :data:`sielaff.ranges.MAX_SHEETS`, as one error
+    cards before it) pass the ceiling :data:`sielaff.emulator.ranges.MAX_SHEETS`, as one error
     naming the card and columns; None if the deck's ranges are fine.  With
     ``max_sheets`` the run stops there, so only a range that never ends is refused."""
-    from sielaff.ranges import MAX_SHEETS, sheet_count
+    from sielaff.emulator.ranges import MAX_SHEETS, sheet_count
 
     ceiling = MAX_SHEETS if max_sheets is None else max_sheets
     total = 0

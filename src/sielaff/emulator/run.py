@@ -16,11 +16,11 @@ import sys
 from collections.abc import Callable, Iterator
 from typing import TextIO
 
-from sielaff import program as _program_module
-from sielaff.arithmetic import ArithmeticError1410, get_arithmetic
-from sielaff.cards import PARAMETER_CARDS
-from sielaff.printer import Format, Unprintable, _strict_value
-from sielaff.program import (
+from sielaff.emulator import program as _program_module
+from sielaff.emulator.arithmetic import ArithmeticError1410, get_arithmetic
+from sielaff.emulator.cards import PARAMETER_CARDS
+from sielaff.emulator.printer import Format, Unprintable, _strict_value
+from sielaff.emulator.program import (
     FORMATS,
     KINEMATIC_FIELDS,
     SHEET_FIELDS,

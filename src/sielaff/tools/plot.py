@@ -46,9 +46,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sielaff.cards import Deck
-from sielaff.check import cycle_work, work_text
+from sielaff.emulator.cards import Deck
 from sielaff.engine import analyze
+from sielaff.tools.check import cycle_work, work_text
 
 __all__ = ["STEP", "PlotData", "plot_data", "render", "sample_angles", "write_plots"]
 
@@ -548,7 +548,7 @@ def render(d: PlotData, path: str) -> None:
 def write_files(images: dict[str, bytes]) -> None:
     """Write every file, all or none: temporary files first, renamed only when every one
     is written (an interruption or a failure changes no file)."""
-    from sielaff.output import atomic_files
+    from sielaff.tools.output import atomic_files
 
     paths = list(images)
     with atomic_files(paths) as temps:
@@ -571,7 +571,7 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.common import CommandError, load_for_engine
+    from sielaff.tools.common import CommandError, load_for_engine
 
     try:
         _pyplot()

@@ -49,7 +49,7 @@ Formats
     row.  Numbers as in the CSV; a non-finite value is ``null`` (JSON has no
     NaN).
 
-The output is written atomically (:func:`sielaff.output.atomic_output`) and
+The output is written atomically (:func:`sielaff.tools.output.atomic_output`) and
 streamed: the engine runs on blocks of :data:`BLOCK` positions (the positions of
 many small range cards share one block) and the text is produced :data:`CHUNK`
 rows at a time, so memory stays bounded however
@@ -70,7 +70,7 @@ from typing import TextIO
 import numpy as np
 
 from sielaff import engine
-from sielaff.cards import Deck
+from sielaff.emulator.cards import Deck
 
 __all__ = ["BLOCK", "CHUNK", "FORMATS", "MAX_POSITIONS", "columns", "count", "angles",
            "header", "write_table", "cmd_table"]
@@ -174,7 +174,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
     ``warn(text)`` receives one line per range card with no positions, and per
     card with values that are not finite.  The caller has checked the deck
-    (:func:`sielaff.common.load_for_engine`: the crank-rocker test, the ranges).
+    (:func:`sielaff.tools.common.load_for_engine`: the crank-rocker test, the ranges).
     """
     if fmt not in FORMATS:
         raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
@@ -256,8 +256,8 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
-    from sielaff.common import CommandError, load_for_engine, refuse_overwriting_inputs
-    from sielaff.output import atomic_output
+    from sielaff.tools.common import CommandError, load_for_engine, refuse_overwriting_inputs
+    from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
     deck = load_for_engine(args.deck, columns(args.only == "kinematics")[1:])

@@ -1,0 +1,179 @@
+"""``analyze``: seed the inputs, plan the steps the outputs need, run them, count the
+positions that cannot assemble."""
+
+from __future__ import annotations
+
+import sys
+import warnings
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from sielaff.engine.outputs import OUTPUTS, RESULTS
+from sielaff.engine.registry import PROVIDER, STEP_CALLS, STEPS, _plan
+from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism, validate
+
+__all__ = ["AssemblyWarning", "Results", "analyze", "plan"]
+
+
+#: Inputs whose being zero can make steps unnecessary (see ``zero_when``).
+_ZERO_CANDIDATES = frozenset(n for s in STEPS for n in s.zero_when if n not in PROVIDER) | {"TEX"}
+
+
+def _zero_seeds(ns: dict[str, Any]) -> frozenset[str]:
+    """The seeded inputs that are identically zero (a massless link, no TEX)."""
+    return frozenset(n for n in _ZERO_CANDIDATES if n in ns and not np.any(ns[n]))
+
+
+class AssemblyWarning(UserWarning):
+    """Some positions of an ``analyze`` call cannot assemble: their results are NaN."""
+
+
+class Results(dict):
+    """``analyze``'s answer: ``{name: array}``, and how many positions could not assemble.
+
+    ``not_assembled`` counts the positions (elements of the broadcast shape) where the
+    loop cannot close, whose results are NaN; it is None when no position was solved
+    (inputs only).  Ask for the ``ASSEMBLED`` output for the mask itself.
+    """
+
+    not_assembled: int | None = None
+
+
+def _common_shape(named: list[tuple[str, tuple[int, ...]]]) -> tuple[int, ...]:
+    """The broadcast shape of ``named`` inputs; a ValueError naming the two that clash."""
+    try:
+        return np.broadcast_shapes(*(shape for _, shape in named))
+    except ValueError:
+        pass
+    so_far: tuple[int, ...] = ()
+    names: list[str] = []
+    for name, shape in named:
+        try:
+            so_far = np.broadcast_shapes(so_far, shape)
+        except ValueError:
+            clash = [n for n, s in named[:len(names)] if not _broadcastable(s, shape)]
+            raise ValueError(
+                f"cannot broadcast {name} (shape {shape}) with {', '.join(clash)} "
+                f"(shape {dict(named)[clash[0]]}): give the fields a sweep varies shapes "
+                "that broadcast, e.g. R4 of shape (n, 1) against ath2 of shape (m,)"
+            ) from None
+        names.append(name)
+    return so_far
+
+
+def _broadcastable(a: tuple[int, ...], b: tuple[int, ...]) -> bool:
+    try:
+        np.broadcast_shapes(a, b)
+    except ValueError:
+        return False
+    return True
+
+
+def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
+    if outputs is None:
+        return RESULTS
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    wanted = tuple(dict.fromkeys(outputs))
+    unknown = [n for n in wanted if n not in OUTPUTS]
+    if unknown:
+        raise ValueError(f"unknown output(s) {unknown}; valid names: {', '.join(OUTPUTS)}")
+    return wanted
+
+
+def _seed(mechanism: Mechanism, ath2: Any, tex: Any) -> dict[str, Any]:
+    ns: dict[str, Any] = {}
+    for name in FIELD_NAMES:
+        v = np.asarray(getattr(mechanism, name), dtype=float)
+        ns[name] = float(v) if v.ndim == 0 else v
+    ns["ATH2"] = np.atleast_1d(np.asarray(ath2, dtype=float))  # ufuncs keep arrays
+    if callable(tex):
+        ns["tex_fn"] = tex
+    else:
+        v = np.asarray(tex, dtype=float)
+        ns["TEX"] = float(v) if v.ndim == 0 else v
+    return ns
+
+
+def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
+         tex: Any = 0.0) -> list[str]:
+    """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
+    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex)
+    order = _plan(_check_outputs(outputs), frozenset(ns), _zero_seeds(ns))
+    return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
+
+
+def _run(order, ns: dict[str, Any]) -> int | None:
+    """Run the planned steps in ``ns``; the number of positions that cannot assemble
+    (None if no position was solved)."""
+    not_assembled = None
+    for st, skipped, drop in order:
+        if skipped:
+            for name in st.provides:
+                ns[name] = 0.0
+        else:
+            # looked up late, in the step's own module, so tests can patch it there
+            fn = getattr(sys.modules[st.fn.__module__], st.name, st.fn)
+            STEP_CALLS[st.name] += 1
+            result = fn(*[ns[n] for n in st.needs])
+            if len(st.provides) == 1:
+                result = (result,)
+            for name, value in zip(st.provides, result, strict=True):
+                ns[name] = value
+            if "s34" in st.provides:  # where the loop cannot close, s34 is NaN
+                not_assembled = int(np.count_nonzero(np.isnan(ns["s34"])))
+        for name in drop:
+            del ns[name]
+    return not_assembled
+
+
+def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
+            tex: Any = 0.0) -> Results:
+    """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
+
+    ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
+    the steps these depend on are run.  ``tex``: the external torque on link 4
+    (in-lb, + CCW), a constant, an array broadcasting against ``ath2``, or a
+    callable taking ATH4 in degrees.  Returns ``{name: array}`` for the wanted
+    names, every array of the broadcast shape of ``ath2``, the mechanism's
+    fields and ``tex``, as a :class:`Results` whose ``not_assembled`` counts the
+    positions where the loop cannot close (their results are NaN; an
+    :class:`AssemblyWarning` says how many).  Shapes that do not broadcast are a
+    ValueError naming the fields, and so is a mechanism no linkage can have
+    (:func:`sielaff.mechanism.validate`: a missing or non-finite field, a length that
+    is not positive, a negative weight or inertia).
+    """
+    wanted = _check_outputs(outputs)
+    validate(mechanism)
+    ns = _seed(mechanism, ath2, tex)
+    seeded = frozenset(ns)
+    named = [("ath2", np.shape(ath2))] + [
+        (n if n != "TEX" else "tex", np.shape(v)) for n, v in ns.items()
+        if n not in ("tex_fn", "ATH2")]
+    final_shape = _common_shape(named)
+    shape = np.broadcast_shapes(ns["ATH2"].shape, final_shape)  # differs only if final is ()
+    # Crank angles of the full shape make every derived array full-shaped, so the
+    # steps may update arrays in place with mechanism fields of any shape.
+    ns["ATH2"] = np.broadcast_to(ns["ATH2"], shape)
+    order = _plan(wanted, seeded, _zero_seeds(ns))
+    with np.errstate(all="ignore"):  # NaN where the loop cannot close, inf at a toggle
+        not_assembled = _run(order, ns)
+    out = Results()
+    if not_assembled is not None:
+        out.not_assembled = not_assembled
+        if not_assembled:
+            total = int(np.prod(shape))
+            warnings.warn(f"{not_assembled} of {total} positions cannot assemble (the loop "
+                          "does not close there): their results are NaN; ask for the "
+                          "ASSEMBLED output for the mask", AssemblyWarning, stacklevel=2)
+    seen: set[int] = set()
+    for name in wanted:
+        v = ns[name]
+        if (name in seeded or id(v) in seen or not isinstance(v, np.ndarray)
+                or v.shape != shape):
+            v = np.array(np.broadcast_to(v, shape), dtype=float)
+        seen.add(id(v))
+        out[name] = v.reshape(final_shape)
+    return out

@@ -1,0 +1,37 @@
+"""Inertia: D'Alembert's inertia forces ``-m aG`` of links 2-4 (lb, at each G, m = W / g)
+and inertia torques ``-ZI TH DD`` of links 3 and 4 (in-lb, ZI about each G)."""
+
+from __future__ import annotations
+
+from sielaff.engine.registry import step
+
+#: Gravitational acceleration, in/s^2 (the listing's G=386.0880).
+G = 386.088
+
+
+@step(provides=("FG2X", "FG2Y"), needs=("W2", "AG2X", "AG2Y"), zero_when=("W2",))
+def _inertia_force2(W2, AG2X, AG2Y):
+    k = -W2 / G
+    return AG2X * k, AG2Y * k
+
+
+@step(provides=("FG3X", "FG3Y"), needs=("W3", "AG3X", "AG3Y"), zero_when=("W3",))
+def _inertia_force3(W3, AG3X, AG3Y):
+    k = -W3 / G
+    return AG3X * k, AG3Y * k
+
+
+@step(provides=("TI3",), needs=("ZI3", "TH3DD"), zero_when=("ZI3",))
+def _inertia_torque3(ZI3, TH3DD):
+    return TH3DD * -ZI3
+
+
+@step(provides=("FG4X", "FG4Y"), needs=("W4", "AG4X", "AG4Y"), zero_when=("W4",))
+def _inertia_force4(W4, AG4X, AG4Y):
+    k = -W4 / G
+    return AG4X * k, AG4Y * k
+
+
+@step(provides=("TI4",), needs=("ZI4", "TH4DD"), zero_when=("ZI4",))
+def _inertia_torque4(ZI4, TH4DD):
+    return TH4DD * -ZI4

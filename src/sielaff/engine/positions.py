@@ -1,0 +1,116 @@
+"""Positions: the crank angle, the loop closure (links 3 and 4), the transmission angle.
+
+No ARCCOS: the sines and cosines of THETA 3 and THETA 4 come from products (see the
+package doc, "Geometry").  Lengths far from 1 are rescaled by a power of two first
+(exact), so lengths from 1E-85 to 1E85 give the same angles.  Angles in degrees.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sielaff.engine.registry import step
+
+_EPS = np.finfo(float).eps
+
+
+_DEGREES = 180.0 / np.pi  # what np.degrees multiplies by
+
+
+@step(provides=("c2", "s2"), needs=("ATH2",))
+def _crank_angle(ATH2):
+    """cos and sin of the crank angle, reduced modulo 360 degrees first."""
+    if ATH2.size and (ATH2.min() < 0.0 or ATH2.max() >= 360.0):
+        ATH2 = np.mod(ATH2, 360.0)  # exact (fmod), so ATH2 + 360 k gives identical results
+    th2 = np.radians(ATH2)
+    c2 = np.cos(th2)
+    return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
+
+
+def _length_scale(R1, R2, R3, R4):
+    """1, or a power of two that brings the lengths near 1 where H^2 ~ L^4 would overflow
+    or underflow (lengths past about 1E70 or below 1E-70): exact, and dimensionless
+    results do not change."""
+    big = max(float(np.max(R)) for R in (R1, R2, R3, R4))
+    small = min(float(np.min(R)) for R in (R1, R2, R3, R4))
+    if 1e-70 < small and big < 1e70:
+        return 1.0
+    return np.exp2(-np.round(np.log2(np.asarray(R1 + R2 + R3 + R4, dtype=float))))
+
+
+@step(
+    provides=("c3", "s3", "c4", "s4", "s34", "c34"),
+    needs=("R1", "R2", "R3", "R4", "c2", "s2"),
+)
+def _loop_closure(R1, R2, R3, R4, c2, s2):
+    """Position of links 3 and 4 on the listing's open branch (see module doc)."""
+    scale = _length_scale(R1, R2, R3, R4)
+    if np.any(scale != 1.0):
+        R1, R2, R3, R4 = R1 * scale, R2 * scale, R3 * scale, R4 * scale
+    dx = R1 - R2 * c2  # d = O4 - A
+    dy = s2 * -R2
+    zl2 = dx * dx
+    zl2 += dy * dy
+    zl = np.sqrt(zl2)
+    # H^2 = ((ZL+R3)^2 - R4^2) (R4^2 - (ZL-R3)^2), each difference factored.
+    t = zl + R3
+    hh = t + R4
+    t -= R4
+    hh *= t
+    np.subtract(zl, R3, out=t)
+    u = R4 - t
+    t += R4
+    u *= t
+    hh *= u
+    del t, u, zl
+    # A product pushed below 0 by roundoff is a toggle (H = 0); below -tol, no assembly.
+    tol = R1 + R2 + R3 + R4
+    tol = -16.0 * _EPS * tol**4
+    np.maximum(hh, 0.0, out=hh, where=hh > tol)
+    with np.errstate(invalid="ignore"):
+        h = np.sqrt(hh, out=hh)
+    k = 0.5 / R3
+    p = zl2 + (R3 * R3 - R4 * R4)  # 2 ZL R3 cos PSI
+    c3 = dx * p
+    c3 -= dy * h
+    s3 = dy * p
+    s3 += dx * h
+    np.divide(k, zl2, out=p)  # 1 / (2 ZL^2 R3)
+    c3 *= p
+    s3 *= p
+    c4 = R3 * c3
+    c4 -= dx
+    c4 /= R4
+    s4 = R3 * s3
+    s4 -= dy
+    s4 /= R4
+    k = -0.5 / (R3 * R4)
+    h *= k  # sin(th3 - th4)
+    zl2 -= R3 * R3 + R4 * R4
+    zl2 *= k  # cos(th3 - th4)
+    return c3, s3, c4, s4, h, zl2
+
+
+def _angle_deg(s, c):
+    """atan2 in degrees, mapped to (-90, 270] (the listing's range for TH3, TH4)."""
+    a = np.asarray(np.arctan2(s, c))
+    a *= _DEGREES  # = np.degrees, in place: a fresh array costs more than the product
+    np.add(a, 360.0, out=a, where=a <= -90.0)
+    return a
+
+
+@step(provides=("ASSEMBLED",), needs=("s34",))
+def _assembly(s34):
+    """True where the loop closes at this crank angle (the position exists)."""
+    return np.isfinite(s34)
+
+
+@step(provides=("ATH3", "ATH4"), needs=("c3", "s3", "c4", "s4"))
+def _link_angles(c3, s3, c4, s4):
+    return _angle_deg(s3, c3), _angle_deg(s4, c4)
+
+
+@step(provides=("GAMMA",), needs=("s34", "c34"))
+def _transmission_angle(s34, c34):
+    """Angle between coupler and rocker (at B), degrees in [0, 180]."""
+    return np.degrees(np.arctan2(-s34, c34))

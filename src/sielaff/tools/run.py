@@ -1,0 +1,115 @@
+"""``sielaff run`` and ``sielaff diff``: the 1966 listing of a deck, and a listing compared
+with a golden printout field by field."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from sielaff.tools.common import (
+    EXIT_NOT_CRANK_ROCKER,
+    CommandError,
+    load_runnable,
+    not_a_crank_rocker,
+    refuse_overwriting_inputs,
+    write_stdout,
+)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from sielaff.emulator.printer import AsaRenderer
+    from sielaff.emulator.program import NotCrankRocker, ProgramError, SheetLimit
+    from sielaff.emulator.run import notice_printer, run
+    from sielaff.mechanism import crank_rocker_failure
+    from sielaff.tools.output import atomic_output
+    from sielaff.tools.progress import run_progress
+
+    refuse_overwriting_inputs(args.output, [args.deck])
+    deck = load_runnable(args.deck, args.arith, args.max_sheets)
+    bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
+    notice = bar.wrap(notice_printer(sys.stderr))
+    with atomic_output(args.output) as out:
+        stream = AsaRenderer(out) if args.render else out
+        try:
+            with bar:
+                run(deck, stream, arithmetic=args.arith, notice=notice,
+                    kinematics_only=args.kinematics_only or args.only == "kinematics",
+                    max_sheets=args.max_sheets, progress=bar)
+        except NotCrankRocker as exc:
+            # The listing holds the 1966 message; an -o file is left as it was (exit 3).
+            if args.render:
+                stream.close()
+            raise CommandError(not_a_crank_rocker(deck) or f"{deck.path}: card 3: THIS IS "
+                               f"NOT A CRANK ROCKER MECHANISM: {exc}",
+                               EXIT_NOT_CRANK_ROCKER) from None
+        except SheetLimit as limit:
+            print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "
+                  "the deck asks for more", file=sys.stderr)
+        except ProgramError as exc:
+            raise CommandError(f"{deck.path}: {exc}") from exc
+        if args.render:
+            stream.close()
+    failure = crank_rocker_failure(deck.mechanism, deck.exact)
+    if failure:  # the 1966 test, in the run's arithmetic, let a change point through
+        notice("change-point", f"card 3: {failure}; the 1966 test of statements 45-51 passed "
+               f"by roundoff in {args.arith} arithmetic, so forces near the toggle are "
+               "meaningless")
+    return 0
+
+
+def cmd_diff(args: argparse.Namespace) -> int:
+    import contextlib
+
+    from sielaff.emulator.listing import ListingError, asa_records, diff_sheets, iter_sheets
+
+    class Named:
+        """A listing file's sheets, read as they are needed; errors name the file."""
+
+        def __init__(self, path: str, stack: contextlib.ExitStack) -> None:
+            self.path, self.count = path, 0
+            try:
+                f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
+            except OSError as exc:
+                raise CommandError(f"{path}: cannot read the listing ({exc.strerror})") from exc
+            self.sheets = iter_sheets(asa_records(_bounded_lines(f)))
+
+        def __iter__(self):
+            try:
+                for sheet in self.sheets:
+                    self.count += 1
+                    yield sheet
+            except ListingError as exc:
+                raise CommandError(f"{self.path}: {exc}") from None
+            except OSError as exc:
+                raise CommandError(f"{self.path}: cannot read the listing "
+                                   f"({exc.strerror})") from exc
+
+    status = 0
+    with contextlib.ExitStack() as stack:
+        listing, golden = Named(args.listing, stack), Named(args.golden, stack)
+        for line in diff_sheets(listing, golden):
+            status = 1
+            if not write_stdout(line + "\n"):
+                break  # the reader went away; the listings differ all the same
+        if golden.count == 0:
+            raise CommandError(f"{args.golden}: no sheet in the golden listing (empty, or not "
+                               "a listing): nothing to compare")
+    return status
+
+
+def _bounded_lines(f, limit: int = 1 << 16):
+    """The lines of ``f``, each cut at ``limit`` characters (the rest of a longer line is
+    read and dropped, a block at a time): a listing line is 133 characters, and a file with
+    no line ends must not be read into memory whole."""
+    while True:
+        line = f.readline(limit)
+        if not line:
+            return
+        if len(line) == limit and not line.endswith("\n"):
+            while True:
+                more = f.readline(limit)
+                if not more or more.endswith("\n"):
+                    break
+        yield line
+
+
