@@ -4,9 +4,7 @@ and inertia torques ``-ZI TH DD`` of links 3 and 4 (in-lb, ZI about each G)."""
 from __future__ import annotations
 
 from sielaff.engine.registry import step
-
-#: Gravitational acceleration, in/s^2 (the listing's G=386.0880).
-G = 386.088
+from sielaff.quantities import G  # in/sec^2: W / G is a link's mass (the listing's G)
 
 
 @step(provides=("FG2X", "FG2Y"), needs=("W2", "AG2X", "AG2Y"), zero_when=("W2",))

@@ -44,10 +44,12 @@ from decimal import Decimal
 import numpy as np
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
+from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
 from sielaff.mechanism import UNITS, Mechanism, crank_rocker_failure
+from sielaff.tools.common import work_text
 
 __all__ = [
-    "SHEET_LIMIT", "CheckReport", "RangeSheets", "check_deck", "cycle_work",
+    "SHEET_LIMIT", "CheckReport", "RangeSheets", "check_deck",
     "range_sheets", "revolution",
 ]
 
@@ -62,7 +64,6 @@ DETAIL_CARDS = 20
 SHEET_LIMIT = 10_000
 
 #: One revolution, the grid the loads are found on (degrees).
-GRID_STEP = 0.1
 REFINE_STEP = 0.001
 
 #: Rule of thumb for the transmission angle (degrees).
@@ -187,34 +188,6 @@ def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
 # --------------------------------------------------------------------------
 # One revolution with the modern engine
 # --------------------------------------------------------------------------
-
-
-def revolution(step: float = GRID_STEP) -> np.ndarray:
-    """Crank angles 0, step, ..., 360 (degrees, both ends)."""
-    n = round(360.0 / step)
-    return np.linspace(0.0, 360.0, n + 1)
-
-
-def work_text(work: float, abs_work: float) -> str:
-    """The cycle work as a reader should see it: roundoff is shown as zero, with its bound,
-    so the text does not depend on the last bits of a CPU's libm."""
-    bound = 1e-12 * max(abs_work, 1.0)
-    if abs(work) <= bound:
-        return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
-    return f"{work:.3g} in-lb"
-
-
-def cycle_work(mechanism: Mechanism, step: float = GRID_STEP) -> tuple[float, float]:
-    """(integral of TORQ, integral of |TORQ|) d(THETA 2) over one revolution, in-lb.
-
-    Trapezoid rule on a ``step``-degree grid, THETA 2 in radians.
-    """
-    from sielaff.engine import analyze
-
-    th = revolution(step)
-    torq = analyze(mechanism, th, ["TORQ"])["TORQ"]
-    x = np.radians(th)
-    return float(np.trapezoid(torq, x)), float(np.trapezoid(np.abs(torq), x))
 
 
 def _extreme(mechanism: Mechanism, name: str, sign: float = 1.0) -> tuple[float, float]:

@@ -216,3 +216,12 @@ def results_problem(deck: Deck, outputs=None) -> CommandError | None:
     return CommandError(f"{deck.path}: card 6: TH2D = {deck.mechanism.TH2D:g} rad/sec with "
                         f"these lengths and weights gives {worst} = {value:.3g} {unit(worst)}, "
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
+
+
+def work_text(work: float, abs_work: float) -> str:
+    """The cycle work as a reader should see it: roundoff is shown as zero, with its bound,
+    so the text does not depend on the last bits of a CPU's libm."""
+    bound = 1e-12 * max(abs_work, 1.0)
+    if abs(work) <= bound:
+        return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
+    return f"{work:.3g} in-lb"

@@ -48,7 +48,8 @@ import numpy as np
 
 from sielaff.emulator.cards import Deck
 from sielaff.engine import analyze
-from sielaff.tools.check import cycle_work, work_text
+from sielaff.engine.derived import cycle_work
+from sielaff.tools.common import work_text
 
 __all__ = ["STEP", "PlotData", "plot_data", "render", "sample_angles", "write_plots"]
 
