@@ -631,12 +631,12 @@ def test_transmission_angle():
 def test_step_registry_is_consistent():
     provided = [n for s in engine.STEPS for n in s.provides]
     assert len(provided) == len(set(provided))
-    known = set(provided) | set(engine.INPUTS) | {"TEX", "tex_fn"}
+    known = set(provided) | set(engine.INPUTS) | {"TEX", "tex_fn", "TH2DD", "th2dd_fn"}
     for s in engine.STEPS:
         assert set(s.needs) <= known, s.name
         assert set(s.zero_when) <= known, s.name
     # plan order respects dependencies
-    ns_available = set(engine.INPUTS) | {"TEX"}
+    ns_available = set(engine.INPUTS) | {"TEX", "TH2DD"}
     for name in engine.plan(engine.OUTPUTS):
         s = next(s for s in engine.STEPS if s.name == name.removesuffix("=0"))
         if not name.endswith("=0"):

@@ -6,8 +6,9 @@ The public API, in one place (everything else is reached through its module):
   (``sielaff.emulator.cards``).
 * ``Mechanism``, ``EXAMPLE``: the deck's parameters with the listing's names and units
   (``sielaff.mechanism``); ``Mechanism.replace(**fields)`` for sweeps.
-* ``analyze(mechanism, ath2, outputs=None, tex=0.0) -> Results``, ``AssemblyWarning``:
-  the modern numpy engine (``sielaff.engine``).
+* ``analyze(mechanism, ath2, outputs=None, tex=0.0, *, th2dd=0.0, gravity=None,
+  loads=()) -> Results``, ``Load``, ``AssemblyWarning``: the modern numpy engine
+  (``sielaff.engine``), with the effects a scene calls for (docs/effects.md).
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -17,13 +18,13 @@ from sielaff.emulator.cards import Deck, DeckError, read_deck
 from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
-__all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Mechanism", "Results",
+__all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
            "__version__", "analyze", "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
-    if name in ("analyze", "Results", "AssemblyWarning"):
+    if name in ("analyze", "Results", "AssemblyWarning", "Load"):
         from sielaff import engine
 
         return getattr(engine, name)

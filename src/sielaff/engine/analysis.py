@@ -11,14 +11,16 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.outputs import OUTPUTS, RESULTS
-from sielaff.engine.registry import PROVIDER, STEP_CALLS, STEPS, _plan
+from sielaff.engine.registry import STEP_CALLS, STEPS, _plan
 from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism, validate
 
 __all__ = ["AssemblyWarning", "Results", "analyze", "plan"]
 
 
 #: Inputs whose being zero can make steps unnecessary (see ``zero_when``).
-_ZERO_CANDIDATES = frozenset(n for s in STEPS for n in s.zero_when if n not in PROVIDER) | {"TEX"}
+#: Every name a step's zero_when uses: when one is an input (seeded) and zero, the steps
+#: that need it alone are skipped.
+_ZERO_CANDIDATES = frozenset(n for s in STEPS for n in s.zero_when) | {"TEX"}
 
 
 def _zero_seeds(ns: dict[str, Any]) -> frozenset[str]:
@@ -83,24 +85,42 @@ def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
     return wanted
 
 
-def _seed(mechanism: Mechanism, ath2: Any, tex: Any) -> dict[str, Any]:
+def _seed(mechanism: Mechanism, ath2: Any, tex: Any, th2dd: Any = 0.0, gravity: Any = None,
+          loads: Any = ()) -> dict[str, Any]:
     ns: dict[str, Any] = {}
     for name in FIELD_NAMES:
         v = np.asarray(getattr(mechanism, name), dtype=float)
         ns[name] = float(v) if v.ndim == 0 else v
     ns["ATH2"] = np.atleast_1d(np.asarray(ath2, dtype=float))  # ufuncs keep arrays
-    if callable(tex):
-        ns["tex_fn"] = tex
+    for name, value in (("TEX", tex), ("TH2DD", th2dd)):
+        if callable(value):
+            ns[name.lower() + "_fn"] = value
+        else:
+            v = np.asarray(value, dtype=float)
+            ns[name] = float(v) if v.ndim == 0 else v
+    if gravity is None:
+        ns["GX"] = ns["GY"] = 0.0
     else:
-        v = np.asarray(tex, dtype=float)
-        ns["TEX"] = float(v) if v.ndim == 0 else v
+        try:
+            gx, gy = (float(g) for g in gravity)
+        except (TypeError, ValueError):
+            raise ValueError(f"gravity = {gravity!r}: give None or the vector (gx, gy) in "
+                             "the mechanism's length unit per sec^2") from None
+        ns["GX"], ns["GY"] = gx, gy
+    from sielaff.engine.loads import Load
+
+    loads = tuple(loads)
+    for load in loads:
+        if not isinstance(load, Load):
+            raise ValueError(f"loads: {load!r} is not a sielaff.Load")
+    ns["loads"], ns["NLOADS"] = loads, float(len(loads))
     return ns
 
 
 def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
-         tex: Any = 0.0) -> list[str]:
+         tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None, loads: Any = ()) -> list[str]:
     """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
-    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex)
+    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex, th2dd, gravity, loads)
     order = _plan(_check_outputs(outputs), frozenset(ns), _zero_seeds(ns))
     return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
 
@@ -130,13 +150,24 @@ def _run(order, ns: dict[str, Any]) -> int | None:
 
 
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
-            tex: Any = 0.0) -> Results:
+            tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None,
+            loads: Any = ()) -> Results:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
 
     ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
     the steps these depend on are run.  ``tex``: the external torque on link 4
     (in-lb, + CCW), a constant, an array broadcasting against ``ath2``, or a
-    callable taking ATH4 in degrees.  Returns ``{name: array}`` for the wanted
+    callable taking ATH4 in degrees.  The effects a scene calls for, each off by
+    default (as in 1966) and then costing nothing:
+
+    * ``th2dd``: the crank's angular acceleration (rad/sec^2, CCW +); TH2D is then
+      the crank speed at each position.  A constant, an array or a function of ATH2.
+    * ``gravity``: None, or (gx, gy) in the length unit per sec^2 in the frame's axes;
+      each link's weight acts at its G.
+    * ``loads``: :class:`sielaff.Load` forces and torques on links 2-4.
+
+    TORQ is the total; ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and
+    ``TORQ_TEX`` are its parts (docs/effects.md).  Returns ``{name: array}`` for the wanted
     names, every array of the broadcast shape of ``ath2``, the mechanism's
     fields and ``tex``, as a :class:`Results` whose ``not_assembled`` counts the
     positions where the loop cannot close (their results are NaN; an
@@ -147,11 +178,11 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     """
     wanted = _check_outputs(outputs)
     validate(mechanism)
-    ns = _seed(mechanism, ath2, tex)
+    ns = _seed(mechanism, ath2, tex, th2dd, gravity, loads)
     seeded = frozenset(ns)
     named = [("ath2", np.shape(ath2))] + [
         (n if n != "TEX" else "tex", np.shape(v)) for n, v in ns.items()
-        if n not in ("tex_fn", "ATH2")]
+        if n not in ("tex_fn", "th2dd_fn", "ATH2", "loads")]
     final_shape = _common_shape(named)
     shape = np.broadcast_shapes(ns["ATH2"].shape, final_shape)  # differs only if final is ()
     # Crank angles of the full shape make every derived array full-shaped, so the

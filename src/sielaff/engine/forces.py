@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from sielaff.engine.registry import step
+from sielaff.engine.statics import pins, plus
 
 
 @step(provides=("TEX",), needs=("tex_fn", "ATH4"))
@@ -79,30 +80,67 @@ def _force_link2(FG2X, FG2Y):
     return FG2X, FG2Y
 
 
-@step(provides=("FA32X", "FA32Y"), needs=("FP32X", "FP32Y", "FPP32X", "FPP32Y"))
-def _total_FA32(FP32X, FP32Y, FPP32X, FPP32Y):
-    return FP32X + FPP32X, FP32Y + FPP32Y
+@step(provides=("fa32x_e", "fa32y_e", "fb34x_e", "fb34y_e", "foax_e", "foay_e", "fobx_e",
+                "foby_e", "torq_e"),
+      needs=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g", "foby_g",
+             "TORQ_GRAVITY", "fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l", "foax_l", "foay_l",
+             "fobx_l", "foby_l", "TORQ_LOADS", "torq_c"),
+      zero_when=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
+                 "foby_g", "TORQ_GRAVITY", "fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l",
+                 "foax_l", "foay_l", "fobx_l", "foby_l", "TORQ_LOADS", "torq_c"))
+def _effects(fa32x_g, fa32y_g, fb34x_g, fb34y_g, foax_g, foay_g, fobx_g, foby_g, TORQ_GRAVITY,
+             fa32x_l, fa32y_l, fb34x_l, fb34y_l, foax_l, foay_l, fobx_l, foby_l, TORQ_LOADS,
+             torq_c):
+    """What gravity, external loads and the crank's own inertia torque add (superposed)."""
+    g = (fa32x_g, fa32y_g, fb34x_g, fb34y_g, foax_g, foay_g, fobx_g, foby_g, TORQ_GRAVITY)
+    ld = (fa32x_l, fa32y_l, fb34x_l, fb34y_l, foax_l, foay_l, fobx_l, foby_l, TORQ_LOADS)
+    out = [plus(a, b) for a, b in zip(g, ld)]
+    out[8] = plus(out[8], torq_c)
+    return tuple(out)
 
 
-@step(provides=("FB34X", "FB34Y"), needs=("FP34X", "FP34Y", "FPP34X", "FPP34Y"))
-def _total_FB34(FP34X, FP34Y, FPP34X, FPP34Y):
-    return FP34X + FPP34X, FP34Y + FPP34Y
+@step(provides=("FA32X", "FA32Y"), needs=("FP32X", "FP32Y", "FPP32X", "FPP32Y", "fa32x_e",
+                                          "fa32y_e"))
+def _total_FA32(FP32X, FP32Y, FPP32X, FPP32Y, fa32x_e, fa32y_e):
+    return plus(FP32X + FPP32X, fa32x_e), plus(FP32Y + FPP32Y, fa32y_e)
 
 
-@step(provides=("TORQ",), needs=("TP2", "TPP2"))
-def _total_TORQ(TP2, TPP2):
-    return TP2 + TPP2
+@step(provides=("FB34X", "FB34Y"), needs=("FP34X", "FP34Y", "FPP34X", "FPP34Y", "fb34x_e",
+                                          "fb34y_e"))
+def _total_FB34(FP34X, FP34Y, FPP34X, FPP34Y, fb34x_e, fb34y_e):
+    return plus(FP34X + FPP34X, fb34x_e), plus(FP34Y + FPP34Y, fb34y_e)
+
+
+@step(provides=("TORQ",), needs=("TP2", "TPP2", "torq_e"))
+def _total_TORQ(TP2, TPP2, torq_e):
+    return plus(TP2 + TPP2, torq_e)
 
 
 @step(provides=("FOAX", "FOAY"), needs=("FP21X", "FP21Y", "FPP21X", "FPP21Y", "F3P21X",
-                                        "F3P21Y"))
-def _total_FOA(FP21X, FP21Y, FPP21X, FPP21Y, F3P21X, F3P21Y):
-    return FP21X + FPP21X + F3P21X, FP21Y + FPP21Y + F3P21Y
+                                        "F3P21Y", "foax_e", "foay_e"))
+def _total_FOA(FP21X, FP21Y, FPP21X, FPP21Y, F3P21X, F3P21Y, foax_e, foay_e):
+    return (plus(FP21X + FPP21X + F3P21X, foax_e), plus(FP21Y + FPP21Y + F3P21Y, foay_e))
 
 
-@step(provides=("FOBX", "FOBY"), needs=("FP41X", "FP41Y", "FPP41X", "FPP41Y"))
-def _total_FOB(FP41X, FP41Y, FPP41X, FPP41Y):
-    return FP41X + FPP41X, FP41Y + FPP41Y
+@step(provides=("FOBX", "FOBY"), needs=("FP41X", "FP41Y", "FPP41X", "FPP41Y", "fobx_e",
+                                        "foby_e"))
+def _total_FOB(FP41X, FP41Y, FPP41X, FPP41Y, fobx_e, foby_e):
+    return plus(FP41X + FPP41X, fobx_e), plus(FP41Y + FPP41Y, foby_e)
+
+
+@step(provides=("TORQ_TEX",), needs=("TEX", "R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4",
+                                     "s4", "s34"), zero_when=("TEX",))
+def _torque_for_tex(TEX, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
+    """The drive torque TEX alone takes (part of TORQ, for the breakdown)."""
+    return pins(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, TEX, R2, R3, R4, c2, s2, c3, s3, c4,
+                s4, s34)[8]
+
+
+@step(provides=("TORQ_INERTIA",), needs=("TORQ", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX"))
+def _torque_for_inertia(TORQ, TORQ_GRAVITY, TORQ_LOADS, TORQ_TEX):
+    """TORQ less what gravity, the loads and TEX take: the links' inertia (the 1966 TORQ
+    when TEX = 0)."""
+    return TORQ - TORQ_GRAVITY - TORQ_LOADS - TORQ_TEX
 
 
 @step(provides=("SHAKX", "SHAKY"), needs=("FOAX", "FOAY", "FOBX", "FOBY"))

@@ -7,29 +7,32 @@ from sielaff.engine.registry import step
 from sielaff.quantities import G  # in/sec^2: W / G is a link's mass (the listing's G)
 
 
-@step(provides=("FG2X", "FG2Y"), needs=("W2", "AG2X", "AG2Y"), zero_when=("W2",))
+@step(provides=("FG2X", "FG2Y"), needs=("W2", "AG2X", "AG2Y"),
+      zero_when=[("W2",), ("AG2X", "AG2Y")])
 def _inertia_force2(W2, AG2X, AG2Y):
     k = -W2 / G
     return AG2X * k, AG2Y * k
 
 
-@step(provides=("FG3X", "FG3Y"), needs=("W3", "AG3X", "AG3Y"), zero_when=("W3",))
+@step(provides=("FG3X", "FG3Y"), needs=("W3", "AG3X", "AG3Y"),
+      zero_when=[("W3",), ("AG3X", "AG3Y")])
 def _inertia_force3(W3, AG3X, AG3Y):
     k = -W3 / G
     return AG3X * k, AG3Y * k
 
 
-@step(provides=("TI3",), needs=("ZI3", "TH3DD"), zero_when=("ZI3",))
+@step(provides=("TI3",), needs=("ZI3", "TH3DD"), zero_when=[("ZI3",), ("TH3DD",)])
 def _inertia_torque3(ZI3, TH3DD):
     return TH3DD * -ZI3
 
 
-@step(provides=("FG4X", "FG4Y"), needs=("W4", "AG4X", "AG4Y"), zero_when=("W4",))
+@step(provides=("FG4X", "FG4Y"), needs=("W4", "AG4X", "AG4Y"),
+      zero_when=[("W4",), ("AG4X", "AG4Y")])
 def _inertia_force4(W4, AG4X, AG4Y):
     k = -W4 / G
     return AG4X * k, AG4Y * k
 
 
-@step(provides=("TI4",), needs=("ZI4", "TH4DD"), zero_when=("ZI4",))
+@step(provides=("TI4",), needs=("ZI4", "TH4DD"), zero_when=[("ZI4",), ("TH4DD",)])
 def _inertia_torque4(ZI4, TH4DD):
     return TH4DD * -ZI4

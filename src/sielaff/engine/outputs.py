@@ -6,7 +6,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from sielaff.engine import accelerations, forces, inertia, positions, velocities  # noqa: F401
+from sielaff.engine import (  # noqa: F401 (each registers its steps)
+    accelerations,
+    crank,
+    forces,
+    gravity,
+    inertia,
+    loads,
+    positions,
+    velocities,
+)
 from sielaff.engine.positions import _DEGREES
 from sielaff.engine.registry import PROVIDER, Step, _depends_on, _register
 from sielaff.mechanism import FIELD_NAMES
@@ -41,8 +50,8 @@ for _name in VECTORS:
 del _name, _xy
 
 
-#: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``).
-INPUTS = ("ATH2",) + FIELD_NAMES
+#: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``, ``TH2DD`` or ``th2dd_fn``).
+INPUTS = ("ATH2",) + FIELD_NAMES + ("GX", "GY", "loads", "NLOADS")
 
 
 #: What ``analyze`` returns by default (``outputs=None``), in the listing's print

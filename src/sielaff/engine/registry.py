@@ -28,7 +28,8 @@ class Step:
     fn: Callable[..., Any]
     provides: tuple[str, ...]
     needs: tuple[str, ...]
-    zero_when: tuple[str, ...] = ()
+    zero_when: tuple[str, ...] = ()  # every name any group below uses
+    zero_groups: tuple[tuple[str, ...], ...] = ()  # zero if all of one group are zero
 
 
 #: All steps, in registration order.
@@ -51,21 +52,29 @@ def _register(st: Step) -> None:
     STEPS.append(st)
 
 
-def step(provides: Iterable[str], needs: Iterable[str] = (), zero_when: Iterable[str] = ()):
+def step(provides: Iterable[str], needs: Iterable[str] = (), zero_when=()):
     """Register the decorated function as a step.
 
     The function's parameters must be exactly ``needs`` (so the declaration
     can be checked against the code) and it returns one value per name in
     ``provides`` (a bare value if there is one).  ``zero_when``: names that,
-    if all identically zero, make every provided value zero.
+    if all identically zero, make every provided value zero; or a list of such
+    groups (tuples), any one of which all zero suffices (a link's inertia force is
+    zero if it has no mass *or* its centre of mass does not accelerate).
     """
-    provides, needs, zero_when = tuple(provides), tuple(needs), tuple(zero_when)
+    provides, needs = tuple(provides), tuple(needs)
+    items = tuple(zero_when)
+    if all(isinstance(x, str) for x in items):
+        groups = (items,) if items else ()
+    else:
+        groups = tuple((g,) if isinstance(g, str) else tuple(g) for g in items)
+    flat = tuple(dict.fromkeys(n for g in groups for n in g))
 
     def decorate(fn):
         params = tuple(inspect.signature(fn).parameters)
         if params != needs:
             raise TypeError(f"step {fn.__name__}: parameters {params} != needs {needs}")
-        _register(Step(fn.__name__, fn, provides, needs, zero_when))
+        _register(Step(fn.__name__, fn, provides, needs, flat, groups))
         return fn
 
     return decorate
@@ -94,9 +103,11 @@ def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
         if name in seeded:
             return name in zero_seeds
         if name not in zero_memo:
-            st = PROVIDER[name]
-            zero_memo[name] = bool(st.zero_when) and all(known_zero(n) for n in st.zero_when)
+            zero_memo[name] = is_zero(PROVIDER[name])
         return zero_memo[name]
+
+    def is_zero(st: Step) -> bool:
+        return any(all(known_zero(n) for n in g) for g in st.zero_groups)
 
     order: list[tuple[Step, bool]] = []
     available = set(seeded)
@@ -110,7 +121,7 @@ def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
             raise ValueError(f"{name} is neither an input nor provided by a step")
         if st.name in active:
             raise RuntimeError(f"dependency cycle through {st.name}")
-        skipped = bool(st.zero_when) and all(known_zero(n) for n in st.zero_when)
+        skipped = is_zero(st)
         if not skipped:
             active.add(st.name)
             for need in st.needs:

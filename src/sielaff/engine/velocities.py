@@ -11,6 +11,7 @@ from sielaff.engine.registry import step
 @step(
     provides=("TH3D", "TH4D"),
     needs=("R2", "R3", "R4", "TH2D", "c2", "s2", "c3", "s3", "c4", "s4", "s34"),
+    zero_when=("TH2D",),
 )
 def _angular_velocities(R2, R3, R4, TH2D, c2, s2, c3, s3, c4, s4, s34):
     k = (R2 * TH2D) / s34
