@@ -289,3 +289,38 @@ def test_quasi_static_torque_with_gravity_runs_no_inertia_step():
                    for s in steps), steps
     r = analyze(still, [30.0], ["TORQ", "TORQ_GRAVITY"], gravity=(0.0, -386.088))
     assert float(r["TORQ"][0]) == float(r["TORQ_GRAVITY"][0]) != 0.0
+
+
+# ----- units: the same physics in SI ----------------------------------------------------------
+IN, LBF, LB = 0.0254, 4.4482216152605, 0.45359237  # m, N, kg (exact definitions)
+
+
+def test_si_gives_the_same_physics_in_si_units():
+    """The example converted to metres, kilograms (masses in the W fields) and kg m^2,
+    with standard gravity in each system: every output is the same quantity in SI."""
+    m = EXAMPLE
+    si = m.replace(units="SI", W2=m.W2 * LB, W3=m.W3 * LB, W4=m.W4 * LB,
+                   ZI2=m.ZI2 * LBF * IN, ZI3=m.ZI3 * LBF * IN, ZI4=m.ZI4 * LBF * IN,
+                   **{k: getattr(m, k) * IN for k in ("R1", "R2", "R3", "R4", "RG2", "RG3",
+                                                      "RG4")})
+    th = np.arange(0.0, 360.0, 10.0)
+    names = ["TORQ", "FA32X", "FOBY", "AG3X", "VB", "TH3DD", "ATH4", "TORQ_GRAVITY"]
+    a = analyze(m, th, names, gravity="down", loads=[Load(3, r=8.0, fx=80.0)])
+    b = analyze(si, th, names, gravity="down", loads=[Load(3, r=8.0 * IN, fx=80.0 * LBF)])
+    # Gravity: a weight of 1 lb is 0.45359237 kg x 9.80665 m/s^2 = 4.4482216152605 N
+    # exactly, so TORQ_GRAVITY agrees to roundoff.  Inertia: the report's g = 386.088
+    # in/s^2 is 9.8066352 m/s^2, 2.2E-6 off standard gravity, so the masses W / g differ
+    # by that much from W x 0.45359237 kg: hence rtol 2E-5 on the rest.
+    factor = {"TORQ": LBF * IN, "FA32X": LBF, "FOBY": LBF, "AG3X": IN, "VB": IN,
+              "TH3DD": 1.0, "ATH4": 1.0}
+    for name, f in factor.items():
+        np.testing.assert_allclose(b[name], a[name] * f, rtol=2e-5, atol=1e-9, err_msg=name)
+    np.testing.assert_allclose(b["TORQ_GRAVITY"], a["TORQ_GRAVITY"] * LBF * IN, rtol=1e-12)
+    ratio = 9.80665 / (386.088 * IN)
+    assert 1e-6 < ratio - 1 < 3e-6  # and TORQ differs from the converted value by about it
+    assert np.max(np.abs(b["TORQ"] / (a["TORQ"] * LBF * IN) - 1)) > 1e-7
+    from sielaff.quantities import unit
+
+    assert (unit("TORQ", "SI"), unit("W3", "SI"), unit("ZI3", "SI")) == ("N m", "kg", "kg m^2")
+    with pytest.raises(ValueError, match="unit systems"):
+        analyze(m.replace(units="cgs"), th)

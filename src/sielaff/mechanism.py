@@ -30,7 +30,7 @@ may be a numpy array that broadcasts against the crank angles.
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, dataclass, fields
+from dataclasses import dataclass
 from dataclasses import replace as dataclasses_replace
 from typing import Any
 
@@ -53,9 +53,19 @@ UNITS = {
 }
 
 
+#: Unit systems: the report's (lengths in, weights in lb, forces lb, torques in-lb,
+#: ZI in-lb-sec^2, g = 386.088 in/sec^2: a link's mass is W / g) and SI (lengths m,
+#: *masses* in kg in the W fields, forces N, torques N m, ZI kg m^2, g = 9.80665 m/s^2).
+STANDARD_GRAVITY = {"in-lb-sec": 386.088, "SI": 9.80665}
+#: What W is divided by to give a mass: g for weights (in-lb-sec), 1 for masses (SI).
+MASS_DIVISOR = {"in-lb-sec": 386.088, "SI": 1.0}
+
+
 @dataclass(frozen=True)
 class Mechanism:
-    """Parameters of a crank-rocker, named as on the data cards (see module doc)."""
+    """Parameters of a crank-rocker, named as on the data cards (see module doc), and the
+    unit system they are in (``units``: ``"in-lb-sec"``, the report's and every deck's,
+    or ``"SI"``; see :data:`STANDARD_GRAVITY`)."""
 
     W2: Any
     W3: Any
@@ -74,21 +84,24 @@ class Mechanism:
     RG3: Any
     RG4: Any
     TH2D: Any
+    units: str = "in-lb-sec"
 
     def replace(self, **fields: Any) -> Mechanism:
         """A copy with some fields changed: ``EXAMPLE.replace(R4=np.linspace(10, 14, 5)[:, None])``
         makes a design sweep (each field may be an array; see the README)."""
-        unknown = sorted(set(fields) - set(FIELD_NAMES))
+        unknown = sorted(set(fields) - set(FIELD_NAMES) - {"units"})
         if unknown:
             raise TypeError(f"Mechanism has no field {', '.join(unknown)} "
                             f"(fields: {' '.join(FIELD_NAMES)})")
         return dataclasses_replace(self, **fields)
 
     def as_tuple(self) -> tuple:
-        return astuple(self)
+        """The 17 values of the deck's fields, in card order."""
+        return tuple(getattr(self, n) for n in FIELD_NAMES)
 
     def as_dict(self) -> dict[str, Any]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """The 17 fields by name (not the unit system)."""
+        return {n: getattr(self, n) for n in FIELD_NAMES}
 
 
 #: The report's example problem (page 19): W 3 8 6; ZI 0 .5 .4; R 12 4 16 12;
@@ -124,6 +137,9 @@ def validate(m: Mechanism) -> None:
     """
     import numpy as np
 
+    if m.units not in STANDARD_GRAVITY:
+        raise ValueError(f"units = {m.units!r}: the unit systems are "
+                         f"{', '.join(STANDARD_GRAVITY)}")
     for name in FIELD_NAMES:
         value = getattr(m, name)
         if value is None:

@@ -53,6 +53,11 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TH3DD": ("rad/sec^2", "angular acceleration of link 3, CCW +"),
     "TH4DD": ("rad/sec^2", "angular acceleration of link 4, CCW +"),
     "TEX": ("in-lb", "external torque on link 4, CCW + (0 in the 1966 program)"),
+    "TH2DD": ("rad/sec^2", "angular acceleration of the crank, CCW + (0 in 1966)"),
+    "TORQ_INERTIA": ("in-lb", "the part of TORQ the links' inertia takes"),
+    "TORQ_GRAVITY": ("in-lb", "the part of TORQ gravity takes"),
+    "TORQ_LOADS": ("in-lb", "the part of TORQ the external loads take"),
+    "TORQ_TEX": ("in-lb", "the part of TORQ the torque TEX on link 4 takes"),
     "TORQ": ("in-lb", "driving torque the drive puts on the crank, CCW +"),
     "SHAKM": ("in-lb", "shaking moment on the frame about O2, CCW +"),
     "ASSEMBLED": ("-", "True where the loop closes at this crank angle (the position exists)"),
@@ -89,16 +94,30 @@ def _vector(name: str) -> tuple[str, str] | None:
     return None
 
 
-def unit(name: str) -> str:
-    """The unit of a listing or engine name (``"in-lb"``, ``"deg"``, ...)."""
+#: The report's units and their SI counterparts (in SI the W fields hold masses).
+SI = {"in": "m", "lb": "N", "in-lb": "N m", "in-lb-sec^2": "kg m^2", "in/sec": "m/s",
+      "in/sec^2": "m/s^2", "rad/sec": "rad/s", "rad/sec^2": "rad/s^2", "deg": "deg", "-": "-"}
+
+
+def unit(name: str, units: str = "in-lb-sec") -> str:
+    """The unit of a listing or engine name (``"in-lb"``, ``"deg"``, ...) in the unit
+    system ``units`` (``"in-lb-sec"``, the report's, or ``"SI"``)."""
     if name in MECHANISM_UNITS:
-        return MECHANISM_UNITS[name]
-    if name == "CARD":
-        return "-"
-    found = _FIXED.get(name) or _vector(name)
-    if found is None:
-        raise KeyError(f"no unit is known for {name!r}")
-    return found[0]
+        found = MECHANISM_UNITS[name]
+        if units == "SI" and name in ("W2", "W3", "W4"):
+            return "kg"  # SI takes masses, not weights
+    elif name == "CARD":
+        found = "-"
+    else:
+        entry = _FIXED.get(name) or _vector(name)
+        if entry is None:
+            raise KeyError(f"no unit is known for {name!r}")
+        found = entry[0]
+    if units == "SI":
+        return SI[found]
+    if units != "in-lb-sec":
+        raise ValueError(f"units = {units!r}: in-lb-sec or SI")
+    return found
 
 
 def describe(name: str) -> str:

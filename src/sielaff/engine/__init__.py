@@ -108,10 +108,10 @@ from __future__ import annotations
 
 from sielaff.engine import forces
 from sielaff.engine.analysis import AssemblyWarning, Results, analyze, plan
-from sielaff.engine.inertia import G
 from sielaff.engine.loads import Load
 from sielaff.engine.outputs import INPUTS, KINEMATIC_OUTPUTS, OUTPUTS, RESULTS, VECTORS
 from sielaff.engine.registry import STEP_CALLS, STEPS, step
+from sielaff.quantities import G
 
 __all__ = [
     "forces",

@@ -12,7 +12,14 @@ import numpy as np
 
 from sielaff.engine.outputs import OUTPUTS, RESULTS
 from sielaff.engine.registry import STEP_CALLS, STEPS, _plan
-from sielaff.mechanism import EXAMPLE, FIELD_NAMES, Mechanism, validate
+from sielaff.mechanism import (
+    EXAMPLE,
+    FIELD_NAMES,
+    MASS_DIVISOR,
+    STANDARD_GRAVITY,
+    Mechanism,
+    validate,
+)
 
 __all__ = ["AssemblyWarning", "Results", "analyze", "plan"]
 
@@ -98,14 +105,17 @@ def _seed(mechanism: Mechanism, ath2: Any, tex: Any, th2dd: Any = 0.0, gravity: 
         else:
             v = np.asarray(value, dtype=float)
             ns[name] = float(v) if v.ndim == 0 else v
+    ns["GW"] = MASS_DIVISOR[mechanism.units]
     if gravity is None:
         ns["GX"] = ns["GY"] = 0.0
+    elif isinstance(gravity, str) and gravity == "down":
+        ns["GX"], ns["GY"] = 0.0, -STANDARD_GRAVITY[mechanism.units]
     else:
         try:
             gx, gy = (float(g) for g in gravity)
         except (TypeError, ValueError):
-            raise ValueError(f"gravity = {gravity!r}: give None or the vector (gx, gy) in "
-                             "the mechanism's length unit per sec^2") from None
+            raise ValueError(f"gravity = {gravity!r}: give None, 'down', or the vector "
+                             "(gx, gy) in the mechanism's length unit per sec^2") from None
         ns["GX"], ns["GY"] = gx, gy
     from sielaff.engine.loads import Load
 
