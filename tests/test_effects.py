@@ -324,3 +324,41 @@ def test_si_gives_the_same_physics_in_si_units():
     assert (unit("TORQ", "SI"), unit("W3", "SI"), unit("ZI3", "SI")) == ("N m", "kg", "kg m^2")
     with pytest.raises(ValueError, match="unit systems"):
         analyze(m.replace(units="cgs"), th)
+
+
+# ----- the emulator: the report's edit of statement 74, TEX = constant -------------------------
+@pytest.mark.parametrize("arith, rtol", [("float64", 1e-6), ("ibm1410", 2e-4)])
+def test_run_tex_is_the_reports_edit_and_agrees_with_the_engine(arith, rtol):
+    """``run --tex 150`` prints EX TORQ ON 4 = .1500E 03 on every sheet, and its TORQ is
+    the engine's with tex=150 within the arithmetic's error (ARCCOS, 8 digits)."""
+    from conftest import DECKS
+    from sielaff.emulator.cards import read_deck
+    from sielaff.emulator.run import sheet_values
+
+    deck = read_deck(DECKS / "example.dat")
+    sheets = list(sheet_values(deck, arith, tex=150.0))[:36]  # 10..360, not 370 (Case II)
+    th = np.array([s["ATH2"] for s in sheets])
+    assert all(s["TEX"] == 150.0 for s in sheets)
+    torq = np.array([s["TORQ"] for s in sheets])
+    want = analyze(EXAMPLE, th, ["TORQ"], tex=150.0)["TORQ"]
+    scale = np.max(np.abs(want))
+    np.testing.assert_allclose(torq, want, rtol=0, atol=rtol * scale)
+    plain = np.array([s["TORQ"] for s in list(sheet_values(deck, arith))[:36]])
+    assert np.max(np.abs(torq - plain)) > 10.0  # TEX did change the driving torque
+
+
+def test_run_tex_on_the_command_line(tmp_path):
+    import subprocess
+    import sys
+
+    from conftest import DECKS
+
+    run = [sys.executable, "-m", "sielaff", "run", str(DECKS / "example.dat")]
+    plain = subprocess.run(run, capture_output=True, text=True).stdout
+    zero = subprocess.run([*run, "--tex", "0"], capture_output=True, text=True).stdout
+    assert zero == plain
+    loaded = subprocess.run([*run, "--tex", "150", "--max-sheets", "2"], capture_output=True,
+                            text=True)
+    assert loaded.stdout.count("   .1500E 03") == 2
+    bad = subprocess.run([*run, "--tex", "1E120"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "is not a torque in in-lb" in bad.stderr

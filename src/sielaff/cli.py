@@ -35,6 +35,20 @@ from sielaff.tools.common import (
 )
 
 
+def tex_value(text: str) -> float:
+    """argparse type for ``--tex``: a finite number the 1410 could hold (|x| < 1E99)."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and abs(value) < 1e99):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a torque in in-lb (a number "
+                                         "below 1E99)")
+    return value
+
+
 def sheet_count(text: str) -> int:
     """argparse type for ``--max-sheets``: a whole number >= 0."""
     try:
@@ -123,6 +137,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="kinematics: the same as --kinematics-only (as for table and plot)")
     p.add_argument("--max-sheets", type=sheet_count, metavar="N",
                    help="stop cleanly after N sheets (a warning says so)")
+    p.add_argument("--tex", type=tex_value, default=0.0, metavar="IN-LB",
+                   help="the report's edit of statement 74: TEX = this constant external "
+                        "torque on link 4 (in-lb, CCW +) instead of 0.0; EX TORQ ON 4 prints it")
 
     p = add("table", "the modern engine's results for a deck, one row per "
             "position from THZERO to THMAX (CSV or JSON)")

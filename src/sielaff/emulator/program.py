@@ -182,13 +182,16 @@ class Program:
 
     # ------------------------------------------------------------------
     def MAIN(self, deck, write: Write, kinematics_only: bool = False,
-             max_sheets: int | None = None) -> int:
+             max_sheets: int | None = None, tex: float = 0.0) -> int:
         """Run the program on a deck; returns the number of sheets printed.
 
         ``kinematics_only`` does what page 18 of the report says: removes
         statements 133-202 and their WRITE statements.  ``max_sheets``
         raises SheetLimit before a sheet past that count (not in the 1966
-        program).  Raises NotCrankRocker after printing the 1966 message.
+        program).  ``tex`` is the report's edit of statement 74, ``TEX = constant``
+        ("In other uses this could be TEX = CONSTANT"), converted like a FORTRAN
+        constant in the run's arithmetic.  Raises NotCrankRocker after printing the
+        1966 message.
         """
         ar, notice = self.ar, self.notice
         num, SIN, COS, SQRT, ABS = ar.num, ar.SIN, ar.COS, ar.SQRT, ar.ABS
@@ -256,7 +259,7 @@ class Program:
                                "THETA 3 and THETA 4 are not the mechanism's")
                 ATH3 = TH3 * RAD                                # 00072
                 ATH4 = TH4 * RAD
-                TEX = num(0.0)                                  # 00074 TEX=0.0
+                TEX = num(tex)                                  # 00074 TEX=0.0 (--tex)
                 S42 = SIN(TH4 - TH2)
                 S34 = SIN(TH3 - TH4)
                 S32 = SIN(TH3 - TH2)

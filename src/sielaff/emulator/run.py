@@ -162,8 +162,9 @@ def _numpy_quiet(ar):
 def run(deck, out: TextIO, arithmetic: str = "float64",
         notice: Callable[[str, str], None] | None = None,
         kinematics_only: bool = False, max_sheets: int | None = None,
-        progress: Callable[[int], None] | None = None) -> int:
-    """Print the listing of ``deck`` on ``out`` (one ASA record per line).
+        progress: Callable[[int], None] | None = None, tex: float = 0.0) -> int:
+    """Print the listing of ``deck`` on ``out`` (one ASA record per line); ``tex`` is the
+    report's edit of statement 74 (``TEX = constant``, in-lb).
 
     Returns the number of sheets.  Raises ``program.NotCrankRocker`` (after
     the 1966 message is printed), ``program.SheetLimit`` and ``ProgramError``.
@@ -178,7 +179,8 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     quiet = _numpy_quiet(ar)  # float32 overflow is a ProgramError below, not a warning
     try:
         with quiet:
-            sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets)
+            sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets,
+                                              tex)
     except NotCrankRocker:
         writer.flush()  # FORMAT 20's message
         raise
@@ -192,8 +194,8 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     return sheets
 
 
-def sheet_values(deck, arithmetic: str = "float64",
-                 kinematics_only: bool = False) -> Iterator[dict[str, float]]:
+def sheet_values(deck, arithmetic: str = "float64", kinematics_only: bool = False,
+                 tex: float = 0.0) -> Iterator[dict[str, float]]:
     """The quantities each sheet prints, unformatted, as dicts keyed by listing name."""
     fields = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
     sheets: list[dict[str, float]] = []
@@ -210,7 +212,7 @@ def sheet_values(deck, arithmetic: str = "float64",
             group[0] += 1
 
     ar = get_arithmetic(arithmetic)
-    Program(ar).MAIN(deck, write, kinematics_only)
+    Program(ar).MAIN(deck, write, kinematics_only, tex=tex)
     return iter(sheets)
 
 
