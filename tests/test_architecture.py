@@ -5,7 +5,7 @@ read with ``ast``; nothing is imported.  docs/architecture.md draws the same lay
 
     cli                     parser and dispatch; imported by __main__ alone
     tools/                  commands (run, check, plot, punch, table, bench, helptext)
-                            and what they share (common, output, progress)
+                            and what they share (common, errors, output, progress, spec)
     engine/   emulator/     the modern engine; the 1966 machine (neither imports the other)
     quantities              names, units, meanings
     mechanism               the mechanism a deck describes
@@ -25,7 +25,8 @@ import pytest
 from conftest import ROOT
 
 SRC = ROOT / "src"
-SHARED_TOOLS = {"sielaff.tools.common", "sielaff.tools.output", "sielaff.tools.progress"}
+SHARED_TOOLS = {"sielaff.tools.common", "sielaff.tools.output", "sielaff.tools.progress",
+                "sielaff.tools.errors", "sielaff.tools.spec"}
 
 
 def module_name(path: Path) -> str:

@@ -109,7 +109,7 @@ def expected_example_report(example_listing: str) -> str:
     return f"""
 sielaff check: {DECKS / "example.dat"}
 
-Deck: 6 parameter cards and 1 range card (7 cards)
+Deck: 6 parameter cards and 1 range card (7 cards); units in-lb-sec
   card 1  W2    =       3.0 lb           weight of link 2 (crank)
           W3    =       8.0 lb           weight of link 3 (coupler)
           W4    =       6.0 lb           weight of link 4 (rocker)

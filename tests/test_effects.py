@@ -362,3 +362,89 @@ def test_run_tex_on_the_command_line(tmp_path):
     assert loaded.stdout.count("   .1500E 03") == 2
     bad = subprocess.run([*run, "--tex", "1E120"], capture_output=True, text=True)
     assert bad.returncode == 2 and "is not a torque in in-lb" in bad.stderr
+
+
+# ----- every tool reaches the effects: a TOML spec with a [scene] ----------------------------
+SCENE = dict(gravity="down", th2dd=-40.0, loads=[Load(3, r=8.0, angle=0.0, fx=80.0)])
+
+
+def _cli(*argv):
+    import contextlib
+    import io
+
+    from sielaff.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(list(argv))
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_table_of_a_spec_with_a_scene_is_the_engine_bit_for_bit():
+    import csv
+    import io
+
+    from conftest import DECKS
+
+    status, out, err = _cli("table", str(DECKS / "scene.toml"))
+    assert status == 0 and err == ""
+    rows = list(csv.reader(io.StringIO(out)))
+    names = [h.split("[")[0] for h in rows[0]][1:]
+    values = np.array([[float(v) for v in r[1:]] for r in rows[1:]])
+    want = analyze(EXAMPLE, values[:, 0], names, **SCENE)
+    for j, name in enumerate(names):
+        np.testing.assert_array_equal(values[:, j], want[name], err_msg=name)
+    plain = analyze(EXAMPLE, values[:, 0], ["TORQ"])["TORQ"]
+    assert np.max(np.abs(want["TORQ"] - plain)) > 50.0  # the scene matters
+
+
+def test_plot_and_check_of_a_spec_use_its_scene(tmp_path):
+    pytest.importorskip("matplotlib")
+    from conftest import DECKS
+    from sielaff.tools.common import read_spec_deck
+    from sielaff.tools.plot import plot_data
+
+    deck, scene = read_spec_deck(str(DECKS / "scene.toml"))
+    d = plot_data(deck, None, scene)["fig12-driving-torque"]
+    torq = analyze(EXAMPLE, d.ath2, ["TORQ"], **SCENE)["TORQ"]
+    np.testing.assert_array_equal(d.series["driving torque TORQ"], torq)
+    assert "gravity, TH2DD -40 rad/sec^2, 1 load(s)" in d.title
+    status, _, err = _cli("plot", str(DECKS / "scene.toml"), "-o", str(tmp_path / "p"))
+    assert status == 0 and err == "" and len(list((tmp_path / "p").iterdir())) == 6
+    status, text, _ = _cli("check", str(DECKS / "scene.toml"))
+    assert status == 0 and "with the spec's scene: gravity, TH2DD = -40" in text
+    from sielaff.engine.derived import cycle_work
+
+    work, _ = cycle_work(EXAMPLE, **SCENE)
+    assert f"over a revolution: {work:.3g} in-lb" in text
+
+
+def test_punch_leaves_the_scene_out_and_refuses_si(tmp_path):
+    from conftest import DECKS
+
+    status, out, _ = _cli("punch", str(DECKS / "scene.toml"))
+    assert status == 0 and out == (DECKS / "example.dat").read_text()
+    si = tmp_path / "si.toml"
+    si.write_text((DECKS / "scene.toml").read_text().replace('units = "in-lb-sec"',
+                                                              'units = "SI"'))
+    status, _, err = _cli("punch", str(si))
+    assert status == 2 and "a 1966 deck is in the report's in-lb-sec units" in err
+    status, out, _ = _cli("table", str(si), "--only", "kinematics")
+    assert status == 0 and "VG2[m/s]" in out.splitlines()[0]
+
+
+@pytest.mark.parametrize("text, words", [
+    ('[scene]\ngravitty = "down"\n', "unknown"),
+    ('[scene]\n[[scene.load]]\nlink = "frame"\n', "crank, coupler or rocker"),
+    ('[scene]\ngravity = [1.0]\n', '"down" or [gx, gy]'),
+    ('[scene]\nunits = "cgs"\n', "in-lb-sec or SI"),
+])
+def test_bad_scenes_are_one_line(tmp_path, text, words):
+    from conftest import DECKS
+
+    spec = tmp_path / "bad.toml"
+    base = (DECKS / "example.toml").read_text()
+    spec.write_text(base + "\n" + text)
+    for command in ("table", "check"):
+        status, _, err = _cli(command, str(spec))
+        assert status == 2 and err.count("\n") == 1 and words in err, (command, err)

@@ -14,7 +14,7 @@ from conftest import DECKS
 from sielaff.cli import main
 from sielaff.emulator.cards import parse_deck, read_field_decimal
 from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
-from sielaff.tools.punch import PunchError, punch_deck, punch_field
+from sielaff.tools.spec import PunchError, punch_deck, punch_field
 
 EXAMPLE_TOML = (DECKS / "example.toml").read_text()
 

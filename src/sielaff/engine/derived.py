@@ -21,12 +21,13 @@ def revolution(step: float = GRID_STEP) -> np.ndarray:
     return np.linspace(0.0, 360.0, n + 1)
 
 
-def cycle_work(mechanism: Mechanism, step: float = GRID_STEP) -> tuple[float, float]:
+def cycle_work(mechanism: Mechanism, step: float = GRID_STEP, **scene) -> tuple[float, float]:
     """(integral of TORQ, integral of |TORQ|) d(THETA 2) over one revolution, in-lb.
 
-    Trapezoid rule on a ``step``-degree grid, THETA 2 in radians.
+    Trapezoid rule on a ``step``-degree grid, THETA 2 in radians; ``scene``: ``analyze``'s
+    effect keywords (tex, th2dd, gravity, loads).
     """
     th = revolution(step)
-    torq = analyze(mechanism, th, ["TORQ"])["TORQ"]
+    torq = analyze(mechanism, th, ["TORQ"], **scene)["TORQ"]
     x = np.radians(th)
     return float(np.trapezoid(torq, x)), float(np.trapezoid(np.abs(torq), x))

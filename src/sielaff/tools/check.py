@@ -45,7 +45,8 @@ import numpy as np
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
-from sielaff.mechanism import UNITS, Mechanism, crank_rocker_failure
+from sielaff.mechanism import Mechanism, crank_rocker_failure
+from sielaff.quantities import unit
 from sielaff.tools.common import work_text
 
 __all__ = [
@@ -190,15 +191,17 @@ def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
 # --------------------------------------------------------------------------
 
 
-def _extreme(mechanism: Mechanism, name: str, sign: float = 1.0) -> tuple[float, float]:
+def _extreme(mechanism: Mechanism, name: str, sign: float = 1.0,
+             scene: dict | None = None) -> tuple[float, float]:
     """(THETA 2, value) where ``sign * name`` is largest over one revolution."""
     from sielaff.engine import analyze
 
     th = revolution()[:-1]
-    v = sign * analyze(mechanism, th, [name])[name]
+    scene = scene or {}
+    v = sign * analyze(mechanism, th, [name], **scene)[name]
     t0 = th[int(np.argmax(v))]
     fine = t0 + np.arange(-GRID_STEP, GRID_STEP + REFINE_STEP / 2, REFINE_STEP)
-    v = sign * analyze(mechanism, fine, [name])[name]
+    v = sign * analyze(mechanism, fine, [name], **scene)[name]
     i = int(np.argmax(v))
     return float(fine[i] % 360.0) + 0.0, float(sign * v[i])
 
@@ -227,12 +230,14 @@ class CheckReport:
 def _deck_section(deck: Deck, rep: CheckReport, sheets: list[RangeSheets]) -> None:
     n_cards = len(PARAMETER_CARDS) + len(deck.ranges)
     rep.add(f"Deck: {len(PARAMETER_CARDS)} parameter cards and {len(deck.ranges)} range "
-            f"card{'s' if len(deck.ranges) != 1 else ''} ({n_cards} cards)")
+            f"card{'s' if len(deck.ranges) != 1 else ''} ({n_cards} cards); units "
+            f"{getattr(deck.mechanism, 'units', 'in-lb-sec')}")
     for card, names in enumerate(PARAMETER_CARDS, 1):
         for k, name in enumerate(names):
             value = deck.exact.get(name, Decimal(repr(getattr(deck.mechanism, name))))
             head = f"card {card}" if k == 0 else ""
-            rep.add(f"  {head:7} {name:5} = {num(value):>9} {UNITS[name]:11}  {MEANINGS[name]}")
+            u = unit(name, getattr(deck.mechanism, "units", "in-lb-sec"))
+            rep.add(f"  {head:7} {name:5} = {num(value):>9} {u:11}  {MEANINGS[name]}")
     for card, rs, exact in zip(deck.range_cards, sheets, _exact_ranges(deck)):
         rep.add(f"  card {card:<2} THZERO = {num(exact[0])} deg, DELTA = {num(exact[1])} deg, "
                 f"THMAX = {num(exact[2])} deg")
@@ -314,8 +319,19 @@ def _clamp(x: float) -> float:
     return min(1.0, max(-1.0, x))
 
 
-def _revolution_section(m: Mechanism, rep: CheckReport) -> None:
-    rep.add("One revolution (modern engine, TEX = 0)")
+def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = None) -> None:
+    scene = scene or {}
+    system = getattr(m, "units", "in-lb-sec")
+    U = {"lb": unit("FA32", system), "in-lb": unit("TORQ", system)}  # noqa: N806
+    effects = [k for k in ("gravity", "th2dd", "loads", "tex") if scene.get(k)]
+    if effects:
+        names = {"gravity": "gravity", "th2dd": f"TH2DD = {scene.get('th2dd'):g} rad/sec^2",
+                 "loads": f"{len(scene.get('loads') or ())} load(s)",
+                 "tex": f"TEX = {scene.get('tex'):g} in-lb"}
+        rep.add("One revolution (modern engine, with the spec's scene: "
+                + ", ".join(names[k] for k in effects) + ")")
+    else:
+        rep.add("One revolution (modern engine, TEX = 0)")
     rep.add(f"  THETA 2 = 0 to 360 on a {GRID_STEP:g} deg grid, peaks refined to "
             f"{REFINE_STEP:g} deg")
     # Transmission angle: ZL is smallest at THETA 2 = 0 and largest at 180.
@@ -342,32 +358,39 @@ def _revolution_section(m: Mechanism, rep: CheckReport) -> None:
 
     rep.add("  peak bearing loads:")
     for name, heading, where in BEARINGS:
-        at, value = _extreme(m, name)
-        direction = float(analyze(m, at, ["D" + name])["D" + name])
-        rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} lb at THETA 2 = "
+        at, value = _extreme(m, name, scene=scene)
+        direction = float(analyze(m, at, ["D" + name], **scene)["D" + name])
+        rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} {U['lb']} at THETA 2 = "
                 f"{at:5.1f} deg, direction {direction:5.1f} deg")
-    at_max, t_max = _extreme(m, "TORQ")
-    at_min, t_min = _extreme(m, "TORQ", -1.0)
+    at_max, t_max = _extreme(m, "TORQ", scene=scene)
+    at_min, t_min = _extreme(m, "TORQ", -1.0, scene=scene)
     peak = max(abs(t_max), abs(t_min))
     rep.add("  driving torque TORQ:")
-    rep.add(f"    largest       {t_max:9.1f} in-lb at THETA 2 = {at_max:5.1f} deg")
-    rep.add(f"    most negative {t_min:9.1f} in-lb at THETA 2 = {at_min:5.1f} deg")
-    rep.add(f"    peak power |TORQ| TH2D = {peak * abs(m.TH2D):.0f} in-lb/sec "
-            f"= {peak * abs(m.TH2D) / 6600.0:.3g} hp")
-    work, abs_work = cycle_work(m)
+    rep.add(f"    largest       {t_max:9.1f} {U['in-lb']} at THETA 2 = {at_max:5.1f} deg")
+    rep.add(f"    most negative {t_min:9.1f} {U['in-lb']} at THETA 2 = {at_min:5.1f} deg")
+    power = peak * abs(m.TH2D)
+    if U["lb"] == "lb":
+        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} in-lb/sec = {power / 6600.0:.3g} hp")
+    else:
+        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} W")
+    work, abs_work = cycle_work(m, **scene)
     ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
     rep.add("  cycle work, integral of TORQ d(THETA 2) over a revolution: "
             + work_text(work, abs_work))
-    rep.add(f"    (integral of |TORQ|: {abs_work:.1f} in-lb): "
-            + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
-    at, shak = _extreme(m, "SHAK")
-    _, sx = _extreme(m, "SHAKX")
-    _, sx_neg = _extreme(m, "SHAKX", -1.0)
-    _, sy = _extreme(m, "SHAKY")
-    _, sy_neg = _extreme(m, "SHAKY", -1.0)
-    rep.add(f"  shaking force SHAKE: peak {shak:.1f} lb at THETA 2 = {at:.1f} deg")
-    rep.add(f"    X component from {sx_neg:.1f} to {sx:.1f} lb, "
-            f"Y component from {sy_neg:.1f} to {sy:.1f} lb")
+    if effects:
+        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): the work the scene's "
+                "loads and crank acceleration take (gravity's is zero)")
+    else:
+        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): "
+                + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
+    at, shak = _extreme(m, "SHAK", scene=scene)
+    _, sx = _extreme(m, "SHAKX", scene=scene)
+    _, sx_neg = _extreme(m, "SHAKX", -1.0, scene=scene)
+    _, sy = _extreme(m, "SHAKY", scene=scene)
+    _, sy_neg = _extreme(m, "SHAKY", -1.0, scene=scene)
+    rep.add(f"  shaking force SHAKE: peak {shak:.1f} {U['lb']} at THETA 2 = {at:.1f} deg")
+    rep.add(f"    X component from {sx_neg:.1f} to {sx:.1f} {U['lb']}, "
+            f"Y component from {sy_neg:.1f} to {sy:.1f} {U['lb']}")
 
 
 class _Collector:
@@ -467,7 +490,8 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
     return reason
 
 
-def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
+def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
+               scene: dict | None = None) -> CheckReport:
     """The report for ``deck`` (see the module doc)."""
     from sielaff.tools.common import mechanism_problem, results_problem
 
@@ -488,9 +512,9 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT) -> CheckReport:
     rep.add()
     overflow = None
     if failure is None:
-        overflow = results_problem(deck)
+        overflow = results_problem(deck, None, scene)
         if overflow is None:
-            _revolution_section(deck.mechanism, rep)
+            _revolution_section(deck.mechanism, rep, scene)
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
@@ -531,11 +555,15 @@ def cmd_check(args) -> int:
     import sys
 
     from sielaff.emulator.cards import read_deck
-    from sielaff.tools.common import CommandError, write_stdout
+    from sielaff.tools.common import CommandError, read_spec_deck, write_stdout
 
     if not os.path.lexists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")
-    rep = check_deck(read_deck(args.deck))
+    if args.deck.endswith(".toml"):  # a spec: its deck, and its scene for the engine
+        deck, scene = read_spec_deck(args.deck)
+        rep = check_deck(deck, scene=scene)
+    else:
+        rep = check_deck(read_deck(args.deck))
     write_stdout(rep.text)  # a closed pipe keeps the status and the error line
     if rep.error:
         print(rep.error, file=sys.stderr)

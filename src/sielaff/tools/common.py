@@ -15,16 +15,13 @@ import sys
 from collections.abc import Iterable
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
-
-EXIT_DIFFERENT, EXIT_DECK, EXIT_NOT_CRANK_ROCKER, EXIT_INTERRUPTED = 1, 2, 3, 130
-
-
-class CommandError(Exception):
-    """A one-line failure with its exit status."""
-
-    def __init__(self, message: str, status: int = EXIT_DECK) -> None:
-        super().__init__(message)
-        self.status = status
+from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's statuses)
+    EXIT_DECK,
+    EXIT_DIFFERENT,
+    EXIT_INTERRUPTED,
+    EXIT_NOT_CRANK_ROCKER,
+    CommandError,
+)
 
 
 # -- signals ------------------------------------------------------------------------
@@ -177,12 +174,44 @@ def load_runnable(path: str, arithmetic="float64", max_sheets: int | None = None
 def load_for_engine(path: str, outputs=None) -> Deck:
     """A deck for the modern engine: a crank-rocker (else exit 3) whose ranges all end and
     whose ``outputs`` (default: all) stay in the 1410's range over a revolution."""
-    deck = load_deck(path)
+    return load_scene(path, outputs)[0]
+
+
+NO_SCENE = {"th2dd": 0.0, "tex": 0.0, "gravity": None, "loads": ()}
+
+
+def read_spec_deck(path: str) -> tuple[Deck, dict]:
+    """A TOML spec's deck (in its unit system) and its scene (``analyze``'s keywords)."""
+    import dataclasses
+
+    from sielaff.emulator.cards import parse_deck
+    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+
+    if not os.path.lexists(path):
+        raise CommandError(f"{path}: no such spec")
+    try:
+        spec = read_spec(path)
+        scene = scene_of(spec, path)
+        deck = parse_deck(punch_deck(spec, path, any_units=True), path)
+    except PunchError as exc:
+        raise CommandError(str(exc), exc.status) from None
+    units = scene.pop("units")
+    return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
+
+
+def load_scene(path: str, outputs=None) -> tuple[Deck, dict]:
+    """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
+    (the deck, ``analyze``'s keywords for the scene).  Checked as ``load_for_engine``
+    says, with the scene's effects in the results."""
+    if path.endswith(".toml"):
+        deck, scene = read_spec_deck(path)
+    else:
+        deck, scene = load_deck(path), dict(NO_SCENE)
     problem = (mechanism_problem(deck) or range_problem(deck)
-               or results_problem(deck, outputs))
+               or results_problem(deck, outputs, scene))
     if problem is not None:
         raise problem
-    return deck
+    return deck, scene
 
 
 def not_a_crank_rocker(deck: Deck) -> str | None:
@@ -194,7 +223,8 @@ def not_a_crank_rocker(deck: Deck) -> str | None:
 
 
 
-def results_problem(deck: Deck, outputs=None) -> CommandError | None:
+def results_problem(deck: Deck, outputs=None, scene: dict | None = None
+                    ) -> CommandError | None:
     """Results past the IBM 1410's range (|x| >= 1E99, or not finite) over a revolution,
     where the listing could not print them and ``sielaff run`` stops (exit 2): one error
     naming the worst quantity, so every command refuses the same decks."""
@@ -204,7 +234,8 @@ def results_problem(deck: Deck, outputs=None) -> CommandError | None:
     from sielaff.quantities import unit
 
     with np.errstate(all="ignore"):  # only the steps ``outputs`` need (kinematics: no forces)
-        r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or RESULTS)
+        r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or RESULTS,
+                    **(scene or NO_SCENE))
     worst, value = None, 0.0
     for name, v in r.items():
         bad = ~np.isfinite(v) | (np.abs(v) >= 1e99)

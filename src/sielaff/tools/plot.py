@@ -152,9 +152,10 @@ def _join(parts: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(out) if out else np.array([])
 
 
-def _evaluate(deck: Deck, names: list[str]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def _evaluate(deck: Deck, names: list[str], scene: dict
+              ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     segs = _segments(deck)
-    results = [analyze(deck.mechanism, seg, names) for seg in segs]
+    results = [analyze(deck.mechanism, seg, names, **scene) for seg in segs]
     return _join(segs), {n: _join([r[n] for r in results]) for n in names}
 
 
@@ -227,31 +228,47 @@ KINEMATIC_FIGURES = (
 XLABEL = "THETA 2, crank angle (deg)"
 
 
-def _subtitle(deck: Deck) -> str:
-    m = deck.mechanism
+def _subtitle(deck: Deck, scene: dict | None = None) -> str:
+    from sielaff.quantities import unit
+
+    m, scene = deck.mechanism, scene or {}
+    system = getattr(m, "units", "in-lb-sec")
+    length = unit("R1", system)
+    effects = []
+    if scene.get("gravity") is not None:
+        effects.append("gravity")
+    if scene.get("th2dd"):
+        effects.append(f"TH2DD {scene['th2dd']:g} {unit('TH3DD', system)}")
+    if scene.get("loads"):
+        effects.append(f"{len(scene['loads'])} load(s)")
+    if scene.get("tex"):
+        effects.append(f"TEX {scene['tex']:g} {unit('TEX', system)}")
     return (f"{os.path.basename(deck.path)}: R1 {m.R1:g}, R2 {m.R2:g}, R3 {m.R3:g}, "
-            f"R4 {m.R4:g} in; TH2D {m.TH2D:g} rad/sec")
+            f"R4 {m.R4:g} {length}; TH2D {m.TH2D:g} {unit('TH2D', system)}"
+            + (f"; {', '.join(effects)}" if effects else ""))
 
 
-def plot_data(deck: Deck, only: str | None = None) -> dict[str, PlotData]:
+def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
+              ) -> dict[str, PlotData]:
     """The data of every figure for ``deck``, keyed by file stem (see module doc).
 
     ``only="kinematics"`` gives the kinematic figures instead of the force ones.
     """
+    scene = scene or {}
     if only not in (None, "kinematics"):
         raise ValueError(f"only={only!r}: the choices are None and 'kinematics'")
-    sub = _subtitle(deck)
+    sub = _subtitle(deck, scene)
     out: dict[str, PlotData] = {}
     if only == "kinematics":
         names = [n for fig in KINEMATIC_FIGURES for n, _ in fig[3]]
-        ath2, v = _evaluate(deck, names)
+        ath2, v = _evaluate(deck, names, scene)
         for name, title, ylabel, curves in KINEMATIC_FIGURES:
             out[name] = PlotData(name, f"{title}\n{sub}", "line", ath2, XLABEL, ylabel,
                                  series={label: v[n] for n, label in curves})
         return out
 
-    ath2, v = _evaluate(deck, ["TORQ"])
-    work, abs_work = cycle_work(deck.mechanism)
+    ath2, v = _evaluate(deck, ["TORQ"], scene)
+    work, abs_work = cycle_work(deck.mechanism, **scene)
     fig12 = PlotData(
         "fig12-driving-torque", f"Fig. 12  Driving torque against THETA 2\n{sub}", "line",
         ath2, XLABEL, "driving torque TORQ (in-lb)", series={"driving torque TORQ": v["TORQ"]},
@@ -261,13 +278,13 @@ def plot_data(deck: Deck, only: str | None = None) -> dict[str, PlotData]:
     pts = _deck_points(deck)
     if pts is not None:
         fig12.points["deck positions (listing sheets)"] = (
-            pts, analyze(deck.mechanism, pts, ["TORQ"])["TORQ"])
+            pts, analyze(deck.mechanism, pts, ["TORQ"], **scene)["TORQ"])
     out[fig12.name] = fig12
 
     names = sorted({n for fig in POLAR_FIGURES for n in fig[3:5]} | {"ATH4"})
-    ath2, v = _evaluate(deck, names)
+    ath2, v = _evaluate(deck, names, scene)
     marks = _mark_angles(deck)
-    mv = analyze(deck.mechanism, marks, names)
+    mv = analyze(deck.mechanism, marks, names, **scene)
     for name, title, legend, mag, direction, relative in POLAR_FIGURES:
         theta, mark_theta = v[direction], mv[direction]
         if relative:
@@ -558,12 +575,13 @@ def write_files(images: dict[str, bytes]) -> None:
                 f.write(images[path])
 
 
-def write_plots(deck: Deck, directory: str, only: str | None = None) -> list[str]:
+def write_plots(deck: Deck, directory: str, only: str | None = None,
+                scene: dict | None = None) -> list[str]:
     """Write every figure of ``deck`` into ``directory`` (created if needed), all of them or
     none; the paths."""
     _pyplot()  # fail before any work if matplotlib is missing
     images = {os.path.join(directory, d.filename): render_png(d)
-              for d in plot_data(deck, only).values()}
+              for d in plot_data(deck, only, scene).values()}
     write_files(images)
     return list(images)
 
@@ -572,7 +590,7 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.tools.common import CommandError, load_for_engine
+    from sielaff.tools.common import CommandError, load_scene
 
     try:
         _pyplot()
@@ -583,8 +601,8 @@ def cmd_plot(args) -> int:
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
-    deck = load_for_engine(args.deck)
-    for path in write_plots(deck, args.output, args.only):
+    deck, scene = load_scene(args.deck)
+    for path in write_plots(deck, args.output, args.only, scene):
         print(path)
     sys.stdout.flush()
     return 0

@@ -158,18 +158,18 @@ def _lines(card: int, block: np.ndarray, json: bool) -> Iterator[str]:
         yield "".join([head + ",".join(map(fr, row)) + "\n" for row in rows])
 
 
-def header(names: tuple[str, ...], units: bool = True) -> str:
+def header(names: tuple[str, ...], units: bool = True, system: str = "in-lb-sec") -> str:
     """The CSV header row: ``NAME[unit]`` for each column (``CARD`` has none), or the bare
     names with ``units=False``.  pandas.read_csv reads either as plain column names."""
     from sielaff.quantities import unit
 
     if not units:
         return ",".join(names)
-    return ",".join(n if n == "CARD" else f"{n}[{unit(n)}]" for n in names)
+    return ",".join(n if n == "CARD" else f"{n}[{unit(n, system)}]" for n in names)
 
 
 def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
-                warn=None, units: bool = True) -> int:
+                warn=None, units: bool = True, scene: dict | None = None) -> int:
     """Write the table of ``deck`` on ``out``; returns the number of rows.
 
     ``warn(text)`` receives one line per range card with no positions, and per
@@ -179,7 +179,9 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     if fmt not in FORMATS:
         raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
     warn = warn or (lambda text: None)
+    scene = scene or {}
     json = fmt == "json"
+    system = getattr(deck.mechanism, "units", "in-lb-sec")
     names = columns(kinematics_only)
     wanted = names[1:]
     if json:
@@ -191,10 +193,10 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
             return json_module.dumps(list(items))
 
         out.write('{"columns": ' + strings(names) + ',\n"units": '
-                  + strings(unit(n) for n in names) + ',\n"descriptions": '
+                  + strings(unit(n, system) for n in names) + ',\n"descriptions": '
                   + strings(describe(n) for n in names) + ',\n"rows": [\n')
     else:
-        out.write(header(names, units) + "\n")
+        out.write(header(names, units, system) + "\n")
     rows = 0
     bad: dict[int, list[int]] = {}  # card -> [positions not finite, positions]
     batch: list[tuple[int, int, np.ndarray]] = []  # (card, positions, angles): one call
@@ -206,7 +208,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
             return
         ath2 = np.concatenate([a for _, _, a in batch])
         with np.errstate(all="ignore"):
-            result = engine.analyze(deck.mechanism, ath2, outputs=wanted)
+            result = engine.analyze(deck.mechanism, ath2, outputs=wanted, **scene)
         block = np.empty((ath2.size, len(wanted)))
         for j, name in enumerate(wanted):
             block[:, j] = result[name]
@@ -256,11 +258,11 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
-    from sielaff.tools.common import CommandError, load_for_engine, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
-    deck = load_for_engine(args.deck, columns(args.only == "kinematics")[1:])
+    deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:])
     for i, card in enumerate(deck.range_cards):
         if count(*_exact(deck, i)) > MAX_POSITIONS:
             thzero, delta, thmax = deck.ranges[i]
@@ -272,6 +274,6 @@ def cmd_table(args: argparse.Namespace) -> int:
 
     with atomic_output(args.output) as out:
         write_table(deck, out, args.format, args.only == "kinematics", warn,
-                    units=getattr(args, "header", "units") == "units")
+                    units=getattr(args, "header", "units") == "units", scene=scene)
     return 0
 

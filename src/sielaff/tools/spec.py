@@ -1,0 +1,380 @@
+"""``sielaff punch SPEC.toml [-o DECK]``: punch a card deck from a readable spec.
+
+The spec is a TOML file that names every value and gives it in the
+report's units; ``punch`` turns it into the 80-column ``4F8.4`` deck the
+1966 program reads (``decks/example.toml`` punches ``decks/example.dat``)::
+
+    # The report's example problem (page 19).
+
+    [weights]           # lb                        -> card 1: W2 W3 W4
+    crank = 3.0
+    coupler = 8.0
+    rocker = 6.0
+
+    [inertia]           # in-lb-sec^2, about G       -> card 2: ZI2 ZI3 ZI4
+    crank = 0.0         # (never used: the crank turns at constant speed)
+    coupler = 0.5
+    rocker = 0.4
+
+    [lengths]           # in                        -> card 3: R1 R2 R3 R4
+    frame = 12.0        # O2 to O4
+    crank = 4.0         # O2 to A
+    coupler = 16.0      # A to B
+    rocker = 12.0       # O4 to B
+
+    [mass_centres]      # distance in, from the link's base pin (O2, A, O4);
+                        # angle deg, + or - from the link's line
+                        #                    -> card 4: ADEL2-4, card 5: RG2-4
+    crank = { distance = 2.0, angle = 0.0 }
+    coupler = { distance = 8.0, angle = -15.0 }
+    rocker = { distance = 6.0, angle = 15.0 }
+
+    [drive]
+    speed = 50.0        # rad/sec, constant         -> card 6: TH2D
+
+    [[range]]           # degrees, one card each    -> THZERO DELTA THMAX
+    start = 10.0
+    step = 10.0
+    stop = 360.0
+
+    [deck]              # optional
+    sequence = "SIEL"   # columns 73-80: this prefix (at most 4 letters or
+                        # digits; "" for none), then 10, 20, ... ; false: blank
+
+Every key above is required except ``[deck]``; more ``[[range]]`` tables
+punch more range cards.  Unknown keys are refused (they are typos).
+
+Values are read as exact decimals and punched exactly: right-justified in
+their 8-column field, with a decimal point (``    12.0``, ``     -.5``), or,
+when only that fits, as 8 digits whose last 4 are the fraction
+(``12345678`` = 1234.5678).  A value that cannot be punched exactly in an
+F8.4 field is refused, never rounded: too many digits (0.333333333), out of
+range (123456.78, 1E8), or so small that its digits do not fit (1E-9).  So
+are a mechanism that is not a crank-rocker (the 1966 program would stop at
+statement 52) and a range the 1966 loop would never leave (step <= 0 with
+start <= stop).
+
+Errors are :class:`PunchError` with a one-line message and the exit status
+(2, or 3 for a mechanism that is not a crank-rocker).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tomllib
+from decimal import Decimal
+
+from sielaff.emulator.cards import read_field_decimal
+from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
+
+__all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "spec_values"]
+
+from sielaff.tools.errors import EXIT_DECK as EXIT_SPEC  # noqa: E402
+from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER  # noqa: E402
+
+WIDTH = 8
+
+LINKS = ("crank", "coupler", "rocker")
+#: (section, key, sub-key or None) -> listing name.
+SPEC_NAMES: dict[tuple[str, str, str | None], str] = {
+    ("weights", "crank", None): "W2",
+    ("weights", "coupler", None): "W3",
+    ("weights", "rocker", None): "W4",
+    ("inertia", "crank", None): "ZI2",
+    ("inertia", "coupler", None): "ZI3",
+    ("inertia", "rocker", None): "ZI4",
+    ("lengths", "frame", None): "R1",
+    ("lengths", "crank", None): "R2",
+    ("lengths", "coupler", None): "R3",
+    ("lengths", "rocker", None): "R4",
+    ("mass_centres", "crank", "angle"): "ADEL2",
+    ("mass_centres", "coupler", "angle"): "ADEL3",
+    ("mass_centres", "rocker", "angle"): "ADEL4",
+    ("mass_centres", "crank", "distance"): "RG2",
+    ("mass_centres", "coupler", "distance"): "RG3",
+    ("mass_centres", "rocker", "distance"): "RG4",
+    ("drive", "speed", None): "TH2D",
+}
+RANGE_KEYS = ("start", "step", "stop")
+
+#: The cards, as listing names (card 7 on: the range cards).
+CARDS = (("W2", "W3", "W4"), ("ZI2", "ZI3", "ZI4"), ("R1", "R2", "R3", "R4"),
+         ("ADEL2", "ADEL3", "ADEL4"), ("RG2", "RG3", "RG4"), ("TH2D",))
+
+
+class PunchError(Exception):
+    """A spec that cannot be punched; ``str(err)`` is one line."""
+
+    def __init__(self, message: str, status: int = EXIT_SPEC) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+# --------------------------------------------------------------------------
+# One field
+# --------------------------------------------------------------------------
+
+
+def _fixed(a: Decimal) -> tuple[str, str]:
+    """Integer and fraction digits of ``a`` >= 0, without trailing fraction zeros."""
+    text = f"{a.normalize():f}" if a else "0"
+    whole, _, frac = text.partition(".")
+    return whole, frac.rstrip("0")
+
+
+def punch_field(value: Decimal | int | str) -> str:
+    """``value`` as an 8-column F8.4 field that reads back exactly; ValueError(reason) if none."""
+    v = Decimal(value)
+    if not v.is_finite():
+        raise ValueError(f"{value} is not a finite number")
+    if v == 0:
+        return "0.0".rjust(WIDTH)
+    sign = "-" if v < 0 else ""
+    whole, frac = _fixed(abs(v))
+    candidates = []
+    if whole == "0":
+        candidates += [f"{sign}0.{frac}", f"{sign}.{frac}"]
+    else:
+        candidates += [f"{sign}{whole}.{frac or '0'}", f"{sign}{whole}.{frac}"]
+    if len(frac) <= 4:  # no point: the last 4 digits are the fraction
+        candidates.append(sign + (whole + frac.ljust(4, "0")).lstrip("0"))
+    for text in candidates:
+        if len(text) <= WIDTH:
+            field = text.rjust(WIDTH)
+            assert read_field_decimal(field) == v, (field, v)
+            return field
+    shown = f"{sign}{whole}.{frac}" if frac else f"{sign}{whole}"
+    if len(sign + whole) > WIDTH - 1:
+        most = "9" * (WIDTH - 1 - len(sign))
+        raise ValueError(f"out of range: {shown} has {len(whole)} digits before the point; "
+                         f"an F8.4 field holds at most {sign}{most}.")
+    room = WIDTH - len(sign) - (len(whole) if whole != "0" else 0) - 1  # fraction digits
+    rounded = abs(v).quantize(Decimal(1).scaleb(-room)) if room >= 0 else None
+    if not rounded:
+        raise ValueError(f"too small: {shown} needs {len(shown)} columns and would punch as 0 "
+                         f"in 8 (the smallest F8.4 value is .{'0' * (WIDTH - 2)}1)")
+    raise ValueError(f"too many digits: {shown} needs {len(shown)} columns, an F8.4 field has "
+                     f"{WIDTH}; punching it would lose precision (round it, e.g. to "
+                     f"{sign}{rounded.normalize():f})")
+
+
+# --------------------------------------------------------------------------
+# The spec
+# --------------------------------------------------------------------------
+
+
+def _number(where: str, value) -> Decimal:
+    if isinstance(value, bool) or not isinstance(value, int | Decimal):
+        raise PunchError(f"{where} = {value!r}: not a number")
+    return Decimal(value)
+
+
+def _table(where: str, value) -> dict:
+    if not isinstance(value, dict):
+        raise PunchError(f"{where}: expected a table, got {value!r}")
+    return value
+
+
+def _unknown(where: str, table: dict, known) -> None:
+    extra = [k for k in table if k not in known]
+    if extra:
+        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(known)})")
+
+
+def spec_values(spec: dict, path: str = "<spec>"
+                ) -> tuple[dict[str, Decimal], list[tuple[Decimal, Decimal, Decimal]], str | None]:
+    """The listing's values, the range cards and the sequence prefix (None: blank).
+
+    Checks the spec's shape only (every key present, numbers, no unknown keys).
+    """
+    sections: dict[str, list[str]] = {}
+    for section, key, _ in SPEC_NAMES:
+        keys = sections.setdefault(section, [])
+        if key not in keys:
+            keys.append(key)
+    _unknown(path, spec, [*sections, "range", "deck", "scene"])
+    values: dict[str, Decimal] = {}
+    for section, keys in sections.items():
+        if section not in spec:
+            raise PunchError(f"{path}: missing [{section}] ({', '.join(keys)})")
+        table = _table(f"{path}: [{section}]", spec[section])
+        _unknown(f"{path}: [{section}]", table, keys)
+        for key in keys:
+            if key not in table:
+                raise PunchError(f"{path}: [{section}] has no {key}")
+    for (section, key, sub), name in SPEC_NAMES.items():
+        item = spec[section][key]
+        where = f"{path}: [{section}] {key}"
+        if sub is not None:
+            item = _table(where, item)
+            _unknown(where, item, ("distance", "angle"))
+            if sub not in item:
+                raise PunchError(f"{where} has no {sub} (write {key} = "
+                                 "{ distance = ..., angle = ... })")
+            item, where = item[sub], f"{where}.{sub}"
+        values[name] = _number(where, item)
+    ranges = spec.get("range")
+    if not ranges:
+        raise PunchError(f"{path}: no [[range]] (start, step, stop in degrees)")
+    if not isinstance(ranges, list):
+        raise PunchError(f"{path}: write the range as [[range]], one table per range card")
+    cards = []
+    for n, r in enumerate(ranges, 1):
+        where = f"{path}: [[range]] {n}"
+        r = _table(where, r)
+        _unknown(where, r, RANGE_KEYS)
+        for key in RANGE_KEYS:
+            if key not in r:
+                raise PunchError(f"{where} has no {key}")
+        cards.append(tuple(_number(f"{where} {k}", r[k]) for k in RANGE_KEYS))
+    deck = _table(f"{path}: [deck]", spec.get("deck", {}))
+    _unknown(f"{path}: [deck]", deck, ("sequence",))
+    prefix = deck.get("sequence", "SIEL")
+    if prefix is False:
+        prefix = None
+    elif not (isinstance(prefix, str) and re.fullmatch(r"[A-Z0-9]{0,4}", prefix)):
+        raise PunchError(f"{path}: [deck] sequence = {prefix!r}: up to 4 capital letters or "
+                         "digits, or false")
+    return values, cards, prefix
+
+
+def _where(path: str, name: str) -> str:
+    for (section, key, sub), n in SPEC_NAMES.items():
+        if n == name:
+            return f"{path}: [{section}] {key}{'.' + sub if sub else ''}"
+    return f"{path}: {name}"
+
+
+def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str:
+    """The deck (text, one 80-column card a line) for a parsed spec.  A spec in SI is
+    refused (a 1966 deck is in in-lb-sec) unless ``any_units``: the modern tools read
+    the values through the deck and keep the spec's unit system beside it."""
+    values, ranges, prefix = spec_values(spec, path)
+    scene = spec.get("scene")
+    if not any_units and isinstance(scene, dict) and scene.get("units", "in-lb-sec") != \
+            "in-lb-sec":
+        raise PunchError(f"{path}: [scene] units = {scene['units']!r}: a 1966 deck is in the "
+                         "report's in-lb-sec units; the modern tools read this spec directly")
+    fields: dict[str, str] = {}
+    for name in FIELD_NAMES:
+        try:
+            fields[name] = punch_field(values[name])
+        except ValueError as err:
+            raise PunchError(f"{_where(path, name)} = {values[name]}: {err}") from None
+    range_fields = []
+    for n, r in enumerate(ranges, 1):
+        row = []
+        for key, value in zip(RANGE_KEYS, r):
+            try:
+                row.append(punch_field(value))
+            except ValueError as err:
+                raise PunchError(f"{path}: [[range]] {n} {key} = {value}: {err}") from None
+        range_fields.append(row)
+    mechanism = Mechanism(**{n: float(values[n]) + 0.0 for n in FIELD_NAMES})
+    failure = crank_rocker_failure(mechanism)
+    if failure:
+        raise PunchError(f"{path}: [lengths]: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
+                         EXIT_NOT_CRANK_ROCKER)
+    for n, (start, step, stop) in enumerate(ranges, 1):
+        if float(step) <= 0 and float(start) <= float(stop):
+            raise PunchError(f"{path}: [[range]] {n}: step = {step} with start = {start} <= "
+                             f"stop = {stop}: the 1966 loop would never end")
+    rows = [[fields[n] for n in card] for card in CARDS] + range_fields
+    lines = []
+    for k, row in enumerate(rows, 1):
+        text = "".join(row).ljust(72)
+        if prefix is None:
+            lines.append(text.rstrip())
+            continue
+        number = str(10 * k).rjust(8 - len(prefix), "0")
+        if len(prefix) + len(number) > 8:
+            raise PunchError(f"{path}: {len(rows)} cards: sequence numbers past "
+                             f"{prefix}{'9' * (8 - len(prefix))} do not fit in columns 73-80")
+        lines.append(text + prefix + number)
+    return "\n".join(lines) + "\n"
+
+
+def punch_file(path: str | os.PathLike[str]) -> str:
+    """The deck for the spec file at ``path``."""
+    return punch_deck(read_spec(path), os.fspath(path))
+
+
+def read_spec(path: str | os.PathLike[str]) -> dict:
+    """The parsed TOML of the spec file at ``path`` (PunchError naming the file if not)."""
+    name = os.fspath(path)
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as err:
+        raise PunchError(f"{name}: cannot read the spec ({err.strerror or err})") from None
+    try:
+        spec = tomllib.loads(data.decode("utf-8"), parse_float=Decimal)
+    except UnicodeDecodeError as err:
+        raise PunchError(f"{name}: not a text file (byte {err.start})") from None
+    except tomllib.TOMLDecodeError as err:
+        raise PunchError(f"{name}: not valid TOML ({err})") from None
+    except RecursionError:
+        raise PunchError(f"{name}: not a spec (tables or arrays nested too deep)") from None
+    return spec
+
+
+LINKS_BY_NAME = {"crank": 2, "coupler": 3, "rocker": 4, 2: 2, 3: 3, 4: 4}
+
+
+def scene_of(spec: dict, path: str = "<spec>") -> dict:
+    """``analyze``'s keywords for the spec's ``[scene]`` (see docs/effects.md), and
+    ``units``::
+
+        [scene]
+        units = "in-lb-sec"           # or "SI" (the whole spec is then in SI)
+        gravity = "down"              # or [gx, gy] in length/sec^2; absent: off
+        crank_acceleration = -40.0    # TH2DD, rad/sec^2
+        tex = 0.0                     # torque on the rocker, CCW +
+        [[scene.load]]
+        link = "coupler"              # crank, coupler or rocker
+        distance = 8.0                # from the link's base pin (O2, A, O4)
+        angle = 10.0                  # degrees CCW from the link's line
+        force = [80.0, 0.0]           # frame axes
+        torque = 0.0                  # CCW +
+    """
+    from sielaff.engine.loads import Load
+    from sielaff.mechanism import STANDARD_GRAVITY
+
+    scene = _table(f"{path}: [scene]", spec.get("scene", {}))
+    _unknown(f"{path}: [scene]", scene, ("units", "gravity", "crank_acceleration", "tex",
+                                         "load"))
+    units = scene.get("units", "in-lb-sec")
+    if units not in STANDARD_GRAVITY:
+        raise PunchError(f"{path}: [scene] units = {units!r}: {' or '.join(STANDARD_GRAVITY)}")
+    out: dict = {"units": units, "th2dd": 0.0, "tex": 0.0, "gravity": None, "loads": []}
+    gravity = scene.get("gravity")
+    if gravity == "down":
+        out["gravity"] = "down"
+    elif gravity is not None:
+        if not (isinstance(gravity, list) and len(gravity) == 2):
+            raise PunchError(f"{path}: [scene] gravity = {gravity!r}: \"down\" or [gx, gy]")
+        out["gravity"] = tuple(float(_number(f"{path}: [scene] gravity", g)) for g in gravity)
+    for key, name in (("crank_acceleration", "th2dd"), ("tex", "tex")):
+        if key in scene:
+            out[name] = float(_number(f"{path}: [scene] {key}", scene[key]))
+    loads = scene.get("load", [])
+    if not isinstance(loads, list):
+        raise PunchError(f"{path}: write each load as [[scene.load]]")
+    for n, item in enumerate(loads, 1):
+        where = f"{path}: [[scene.load]] {n}"
+        item = _table(where, item)
+        _unknown(where, item, ("link", "distance", "angle", "force", "torque"))
+        link = LINKS_BY_NAME.get(item.get("link"))
+        if link is None:
+            raise PunchError(f"{where} link = {item.get('link')!r}: crank, coupler or rocker")
+        force = item.get("force", [0.0, 0.0])
+        if not (isinstance(force, list) and len(force) == 2):
+            raise PunchError(f"{where} force = {force!r}: [fx, fy]")
+        fx, fy = (float(_number(f"{where} force", f)) for f in force)
+        out["loads"].append(Load(link, float(_number(f"{where} distance",
+                                                     item.get("distance", 0))),
+                                 float(_number(f"{where} angle", item.get("angle", 0))),
+                                 fx, fy, float(_number(f"{where} torque",
+                                                       item.get("torque", 0)))))
+    return out
