@@ -265,6 +265,17 @@ class _View(Sequence):
 
     __hash__ = None  # type: ignore[assignment]
 
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        n = len(self)
+        if not -n <= i < n:
+            raise IndexError(i)
+        return self._item(i % n)
+
+    def _item(self, i: int):
+        raise NotImplementedError
+
     def __repr__(self) -> str:
         return f"[{', '.join(map(repr, self[:5]))}{', ...' if len(self) > 5 else ''}]"
 
@@ -278,13 +289,7 @@ class RangeList(_View):
     def __len__(self) -> int:
         return len(self._v) // 3
 
-    def __getitem__(self, i):
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(len(self)))]
-        n = len(self)
-        if not -n <= i < n:
-            raise IndexError(i)
-        i %= n
+    def _item(self, i: int) -> Range:
         return Range(*self._v[3 * i:3 * i + 3])
 
 
@@ -297,13 +302,7 @@ class ExactRangeList(_View):
     def __len__(self) -> int:
         return len(self._t) // 24
 
-    def __getitem__(self, i):
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(len(self)))]
-        n = len(self)
-        if not -n <= i < n:
-            raise IndexError(i)
-        i %= n
+    def _item(self, i: int) -> tuple[Decimal, Decimal, Decimal]:
         card = self._t[24 * i:24 * i + 24].decode("ascii")
         return tuple(read_field_decimal(card[k:k + 8]) for k in (0, 8, 16))
 
@@ -317,8 +316,8 @@ class CardNumbers(_View):
     def __len__(self) -> int:
         return len(self._r)
 
-    def __getitem__(self, i):
-        return list(self._r[i]) if isinstance(i, slice) else self._r[i]
+    def _item(self, i: int) -> int:
+        return self._r[i]
 
 
 def _lines(f, path: str, warnings: list[str]):
