@@ -408,7 +408,7 @@ def test_plot_and_check_of_a_spec_use_its_scene(tmp_path):
     d = plot_data(deck, None, scene)["fig12-driving-torque"]
     torq = analyze(EXAMPLE, d.ath2, ["TORQ"], **SCENE)["TORQ"]
     np.testing.assert_array_equal(d.series["driving torque TORQ"], torq)
-    assert "gravity, TH2DD -40 rad/sec^2, 1 load(s)" in d.title
+    assert "gravity, TH2DD = -40 rad/sec^2, 1 load" in d.title
     status, _, err = _cli("plot", str(DECKS / "scene.toml"), "-o", str(tmp_path / "p"))
     assert status == 0 and err == "" and len(list((tmp_path / "p").iterdir())) == 6
     status, text, _ = _cli("check", str(DECKS / "scene.toml"))

@@ -47,7 +47,7 @@ from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
 from sielaff.mechanism import Mechanism, crank_rocker_failure
 from sielaff.quantities import unit
-from sielaff.tools.common import work_text
+from sielaff.tools.common import describe_scene, work_text
 
 __all__ = [
     "SHEET_LIMIT", "CheckReport", "RangeSheets", "check_deck",
@@ -323,13 +323,9 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
     scene = scene or {}
     system = getattr(m, "units", "in-lb-sec")
     U = {"lb": unit("FA32", system), "in-lb": unit("TORQ", system)}  # noqa: N806
-    effects = [k for k in ("gravity", "th2dd", "loads", "tex") if scene.get(k)]
+    effects = describe_scene(scene, system)
     if effects:
-        names = {"gravity": "gravity", "th2dd": f"TH2DD = {scene.get('th2dd'):g} rad/sec^2",
-                 "loads": f"{len(scene.get('loads') or ())} load(s)",
-                 "tex": f"TEX = {scene.get('tex'):g} in-lb"}
-        rep.add("One revolution (modern engine, with the spec's scene: "
-                + ", ".join(names[k] for k in effects) + ")")
+        rep.add(f"One revolution (modern engine, with the spec's scene: {effects})")
     else:
         rep.add("One revolution (modern engine, TEX = 0)")
     rep.add(f"  THETA 2 = 0 to 360 on a {GRID_STEP:g} deg grid, peaks refined to "

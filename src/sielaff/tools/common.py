@@ -256,3 +256,22 @@ def work_text(work: float, abs_work: float) -> str:
     if abs(work) <= bound:
         return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
     return f"{work:.3g} in-lb"
+
+
+def describe_scene(scene: dict | None, units: str = "in-lb-sec") -> str:
+    """The effects a scene turns on, in words ("gravity, TH2DD = -40 rad/sec^2, 1 load"),
+    or "" for the 1966 scene."""
+    from sielaff.quantities import unit
+
+    scene = scene or {}
+    effects = []
+    if scene.get("gravity") is not None:
+        effects.append("gravity")
+    if scene.get("th2dd"):
+        effects.append(f"TH2DD = {scene['th2dd']:g} {unit('TH3DD', units)}")
+    if scene.get("loads"):
+        n = len(scene["loads"])
+        effects.append(f"{n} load{'s' if n > 1 else ''}")
+    if scene.get("tex"):
+        effects.append(f"TEX = {scene['tex']:g} {unit('TEX', units)}")
+    return ", ".join(effects)

@@ -230,22 +230,15 @@ XLABEL = "THETA 2, crank angle (deg)"
 
 def _subtitle(deck: Deck, scene: dict | None = None) -> str:
     from sielaff.quantities import unit
+    from sielaff.tools.common import describe_scene
 
-    m, scene = deck.mechanism, scene or {}
+    m = deck.mechanism
     system = getattr(m, "units", "in-lb-sec")
     length = unit("R1", system)
-    effects = []
-    if scene.get("gravity") is not None:
-        effects.append("gravity")
-    if scene.get("th2dd"):
-        effects.append(f"TH2DD {scene['th2dd']:g} {unit('TH3DD', system)}")
-    if scene.get("loads"):
-        effects.append(f"{len(scene['loads'])} load(s)")
-    if scene.get("tex"):
-        effects.append(f"TEX {scene['tex']:g} {unit('TEX', system)}")
+    effects = describe_scene(scene, system)
     return (f"{os.path.basename(deck.path)}: R1 {m.R1:g}, R2 {m.R2:g}, R3 {m.R3:g}, "
             f"R4 {m.R4:g} {length}; TH2D {m.TH2D:g} {unit('TH2D', system)}"
-            + (f"; {', '.join(effects)}" if effects else ""))
+            + (f"; {effects}" if effects else ""))
 
 
 def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
