@@ -9,6 +9,8 @@ The public API, in one place (everything else is reached through its module):
 * ``analyze(mechanism, ath2, outputs=None, tex=0.0, *, th2dd=0.0, gravity=None,
   loads=()) -> Results``, ``Load``, ``AssemblyWarning``: the modern numpy engine
   (``sielaff.engine``), with the effects a scene calls for (docs/effects.md).
+* ``linkage_class(mechanism)``: which four-bar it is (crank-rocker, double-crank, ...),
+  its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -19,12 +21,12 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
-           "__version__", "analyze", "read_deck"]
+           "__version__", "analyze", "linkage_class", "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
-    if name in ("analyze", "Results", "AssemblyWarning", "Load"):
+    if name in ("analyze", "Results", "AssemblyWarning", "Load", "linkage_class"):
         from sielaff import engine
 
         return getattr(engine, name)

@@ -108,6 +108,7 @@ from __future__ import annotations
 
 from sielaff.engine import forces
 from sielaff.engine.analysis import AssemblyWarning, Results, analyze, plan
+from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
 from sielaff.engine.loads import Load
 from sielaff.engine.outputs import INPUTS, KINEMATIC_OUTPUTS, OUTPUTS, RESULTS, VECTORS
 from sielaff.engine.registry import STEP_CALLS, STEPS, step
@@ -117,6 +118,8 @@ __all__ = [
     "forces",
     "G",
     "INPUTS",
+    "KINDS",
+    "LinkageClass",
     "Load",
     "KINEMATIC_OUTPUTS",
     "OUTPUTS",
@@ -127,6 +130,7 @@ __all__ = [
     "AssemblyWarning",
     "Results",
     "analyze",
+    "linkage_class",
     "plan",
     "step",
 ]

@@ -44,6 +44,7 @@ from decimal import Decimal
 import numpy as np
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
+from sielaff.engine.classify import linkage_class
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
 from sielaff.mechanism import Mechanism, crank_rocker_failure
 from sielaff.quantities import unit
@@ -289,13 +290,21 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
             f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} in (margin {_plain(pq - sl)} in)")
     rep.add(f"    {verdict}")
     shortest = [n for n in links if getattr(m, n) == s]
-    kinds = {"R2": "a crank-rocker", "R1": "a double crank (drag link)",
-             "R3": "a double rocker", "R4": "a rocker-crank (link 4 turns fully)"}
     names = " and ".join(f"{LINK_NAMES[n]} {n}" for n in shortest)
-    if sl < pq and len(shortest) == 1:
-        rep.add(f"  shortest link: {names} = {_plain(s)} in, so {kinds[shortest[0]]}")
+    c = linkage_class(m)
+    phrase = {"crank-rocker": "a crank-rocker", "double-crank": "a double crank (drag link)",
+              "double-rocker": "a double rocker", "rocker-crank":
+              "a rocker-crank (link 4 turns fully)"}.get(c.kind)
+    if phrase and len(shortest) == 1:
+        rep.add(f"  shortest link: {names} = {_plain(s)} in, so {phrase}")
     else:
         rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} in")
+    if c.kind != "crank-rocker":
+        rep.add(f"  kind: {c.kind} (link 2 the input, link 1 the frame; sielaff.linkage_class)")
+        for a, b in ([] if c.turns_fully else c.arcs):
+            through = " (through 0)" if b < a else ""
+            rep.add(f"    link 2 swings from THETA 2 = {a:.2f} deg to {b:.2f} deg{through}, "
+                    "between toggles")
     failure = crank_rocker_failure(m, exact)
     if not m.R2 > 0:
         rep.add(f"  crank-rocker conditions: {failure}")
