@@ -16,6 +16,7 @@ import sielaff
 from sielaff.engine import analyze
 from sielaff.engine.classify import KINDS, linkage_class
 from sielaff.mechanism import EXAMPLE, crank_rocker_failure
+from test_effects import FORCES, newton_euler
 
 
 def lengths(r1, r2, r3, r4):
@@ -127,3 +128,86 @@ def test_check_prints_the_kind_for_any_deck(tmp_path):
     assert status == 3 and "kind: triple-rocker" in text
     assert "link 2 swings from THETA 2 = 295.94 deg to 64.06 deg (through 0)" in text
     assert math.isclose(64.06, float(np.degrees(np.arccos((100 + 16 - 81) / 80))), abs_tol=0.01)
+
+
+# ----- either branch, every kind: positions, rates and forces by independent routes ----------
+def _b(m, th2, branch):
+    r = analyze(m, [th2], ["ATH3"], branch=branch)
+    t2, t3 = math.radians(th2), math.radians(float(r["ATH3"][0]))
+    return m.R2 * complex(math.cos(t2), math.sin(t2)) + m.R3 * complex(math.cos(t3),
+                                                                      math.sin(t3))
+
+
+def _circles(m, th2):
+    """Both intersections of the circles about A (radius R3) and O4 (radius R4)."""
+    t2 = math.radians(th2)
+    A, O4 = m.R2 * complex(math.cos(t2), math.sin(t2)), complex(m.R1, 0.0)
+    d = abs(O4 - A)
+    if d < 1e-9 * (m.R1 + m.R2):  # A on O4: every B on the circle closes the loop
+        return None
+    a = (m.R3**2 - m.R4**2 + d * d) / (2 * d)
+    h = math.sqrt(max(m.R3**2 - a * a, 0.0))
+    P = A + a * (O4 - A) / d
+    perp = 1j * (O4 - A) / d
+    return P + h * perp, P - h * perp, h
+
+
+any_linkage = st.tuples(*[st.floats(0.5, 10.0)] * 4)
+
+
+@settings(max_examples=200, derandomize=True)
+@given(any_linkage, st.floats(0.0, 359.9))
+def test_both_branches_are_the_two_circle_intersections(r, th2):
+    m = lengths(*r)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ok = analyze(m, [th2], ["ASSEMBLED"])["ASSEMBLED"][0]
+    assume(ok)
+    circles = _circles(m, th2)
+    assume(circles is not None)
+    b1, b2, h = circles
+    assume(h > 1e-6 * sum(r))  # away from a toggle, where the two are one
+    got = {_b(m, th2, "open"), _b(m, th2, "crossed")}
+    scale = sum(r)
+    for want in (b1, b2):
+        assert min(abs(g - want) for g in got) < 1e-12 * scale
+    assert abs(_b(m, th2, "open") - _b(m, th2, "crossed")) > h  # two different assemblies
+
+
+def test_open_branch_of_the_example_is_the_1966_one():
+    b_open, b_crossed = _b(EXAMPLE, 40.0, "open"), _b(EXAMPLE, 40.0, "crossed")
+    assert b_open.imag > 0 > b_crossed.imag  # B above the frame line, as in Figure 9
+    with pytest.raises(ValueError, match="branch"):
+        analyze(EXAMPLE, [40.0], branch="upside-down")
+
+
+@settings(max_examples=100, derandomize=True)
+@given(any_linkage, st.floats(0.0, 1.0), st.sampled_from(["open", "crossed"]))
+def test_every_kind_and_branch_agrees_with_newton_euler(r, where, branch):
+    """Rates and forces on either branch of any four-bar, at an angle it reaches: the
+    engine against the independent kinematics and Newton-Euler solve."""
+    m = EXAMPLE.replace(R1=r[0], R2=r[1], R3=r[2], R4=r[3], RG3=r[2] / 2, RG4=r[3] / 2)
+    c = linkage_class(m)
+    assume(c.arcs)
+    a, b = c.arcs[0]
+    th2 = (a + ((b - a) % 360.0) * (0.05 + 0.9 * where)) % 360.0  # inside the arc
+    gamma = float(analyze(m, [th2], ["GAMMA"], branch=branch)["GAMMA"][0])
+    assume(15.0 < gamma < 165.0)
+    got = analyze(m, [th2], list(FORCES), branch=branch, gravity="down")
+    want, _ = newton_euler(m, th2, 0.0, (0.0, -386.088), [], 0.0, _b(m, th2, branch))
+    scale = max(abs(v) for v in want.values())
+    for name in FORCES:
+        assert float(got[name][0]) == pytest.approx(want[name], abs=1e-9 * scale), name
+
+
+def test_reachable_spreads_angles_where_the_loop_closes():
+    import sielaff
+
+    triple = lengths(10.0, 4.0, 5.0, 4.0)
+    th = sielaff.reachable(triple, 50)
+    assert len(th) == 50 and th[0] == pytest.approx(295.944, abs=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no AssemblyWarning: every angle assembles
+        assert analyze(triple, th, ["ATH4"]).not_assembled == 0
+    np.testing.assert_array_equal(sielaff.reachable(EXAMPLE, 4), [0.0, 90.0, 180.0, 270.0])
+    assert len(sielaff.reachable(lengths(1.0, 1.0, 1.0, 3.0), 10)) == 0  # never closes

@@ -21,12 +21,13 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
-           "__version__", "analyze", "linkage_class", "read_deck"]
+           "__version__", "analyze", "linkage_class", "reachable", "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
-    if name in ("analyze", "Results", "AssemblyWarning", "Load", "linkage_class"):
+    if name in ("analyze", "Results", "AssemblyWarning", "Load", "linkage_class",
+                "reachable"):
         from sielaff import engine
 
         return getattr(engine, name)

@@ -93,8 +93,11 @@ def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
 
 
 def _seed(mechanism: Mechanism, ath2: Any, tex: Any, th2dd: Any = 0.0, gravity: Any = None,
-          loads: Any = ()) -> dict[str, Any]:
+          loads: Any = (), branch: str = "open") -> dict[str, Any]:
     ns: dict[str, Any] = {}
+    if branch not in ("open", "crossed"):
+        raise ValueError(f"branch = {branch!r}: 'open' (the 1966 program's) or 'crossed'")
+    ns["BRANCH"] = 1.0 if branch == "open" else -1.0
     for name in FIELD_NAMES:
         v = np.asarray(getattr(mechanism, name), dtype=float)
         ns[name] = float(v) if v.ndim == 0 else v
@@ -128,9 +131,11 @@ def _seed(mechanism: Mechanism, ath2: Any, tex: Any, th2dd: Any = 0.0, gravity: 
 
 
 def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
-         tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None, loads: Any = ()) -> list[str]:
+         tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None, loads: Any = (),
+         branch: str = "open") -> list[str]:
     """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
-    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex, th2dd, gravity, loads)
+    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex, th2dd, gravity, loads,
+               branch)
     order = _plan(_check_outputs(outputs), frozenset(ns), _zero_seeds(ns))
     return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
 
@@ -161,7 +166,7 @@ def _run(order, ns: dict[str, Any]) -> int | None:
 
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
             tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None,
-            loads: Any = ()) -> Results:
+            loads: Any = (), branch: str = "open") -> Results:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
 
     ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
@@ -176,6 +181,10 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
       each link's weight acts at its G.
     * ``loads``: :class:`sielaff.Load` forces and torques on links 2-4.
 
+    ``branch``: ``"open"`` (the 1966 program's assembly, B above the line A-O4 for the
+    report's example) or ``"crossed"`` (the other).  Any four-bar works; where the loop
+    cannot close the results are NaN (counted), see :func:`reachable`.
+
     TORQ is the total; ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and
     ``TORQ_TEX`` are its parts (docs/effects.md).  Returns ``{name: array}`` for the wanted
     names, every array of the broadcast shape of ``ath2``, the mechanism's
@@ -188,7 +197,7 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     """
     wanted = _check_outputs(outputs)
     validate(mechanism)
-    ns = _seed(mechanism, ath2, tex, th2dd, gravity, loads)
+    ns = _seed(mechanism, ath2, tex, th2dd, gravity, loads, branch)
     seeded = frozenset(ns)
     named = [("ath2", np.shape(ath2))] + [
         (n if n != "TEX" else "tex", np.shape(v)) for n, v in ns.items()

@@ -51,7 +51,7 @@ del _name, _xy
 
 
 #: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``, ``TH2DD`` or ``th2dd_fn``).
-INPUTS = ("ATH2",) + FIELD_NAMES + ("GW", "GX", "GY", "loads", "NLOADS")
+INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS")
 
 
 #: What ``analyze`` returns by default (``outputs=None``), in the listing's print

@@ -27,6 +27,25 @@ def _crank_angle(ATH2):
     return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
 
 
+def reachable(mechanism, n: int = 361):
+    """``n`` crank angles (degrees) spread over the THETA 2 that assemble: a whole
+    revolution (0 to 360, 360 left out) when link 2 turns fully, else over each arc
+    between toggles in proportion to its length, its toggles included (positions are
+    finite there; the rates are infinite: the linkage locks)."""
+    from sielaff.engine.classify import linkage_class
+
+    c = linkage_class(mechanism)
+    if c.turns_fully:
+        return np.linspace(0.0, 360.0, n, endpoint=False)
+    spans = [((b - a) % 360.0, a) for a, b in c.arcs]
+    total = sum(w for w, _ in spans)
+    out = []
+    for k, (w, a) in enumerate(spans):
+        m = n - len(out) if k == len(spans) - 1 else max(2, round(n * w / total))
+        out.append(np.mod(a + np.linspace(0.0, w, m), 360.0))
+    return np.concatenate(out) if out else np.array([])
+
+
 def _length_scale(R1, R2, R3, R4):
     """1, or a power of two that brings the lengths near 1 where H^2 ~ L^4 would overflow
     or underflow (lengths past about 1E70 or below 1E-70): exact, and dimensionless
@@ -40,10 +59,11 @@ def _length_scale(R1, R2, R3, R4):
 
 @step(
     provides=("c3", "s3", "c4", "s4", "s34", "c34"),
-    needs=("R1", "R2", "R3", "R4", "c2", "s2"),
+    needs=("R1", "R2", "R3", "R4", "c2", "s2", "BRANCH"),
 )
-def _loop_closure(R1, R2, R3, R4, c2, s2):
-    """Position of links 3 and 4 on the listing's open branch (see module doc)."""
+def _loop_closure(R1, R2, R3, R4, c2, s2, BRANCH):
+    """Position of links 3 and 4: BRANCH = 1 the listing's open branch (see the package
+    doc), -1 the crossed one (the mirror image of B about the line A-O4: -H for H)."""
     scale = _length_scale(R1, R2, R3, R4)
     if np.any(scale != 1.0):
         R1, R2, R3, R4 = R1 * scale, R2 * scale, R3 * scale, R4 * scale
@@ -69,6 +89,8 @@ def _loop_closure(R1, R2, R3, R4, c2, s2):
     np.maximum(hh, 0.0, out=hh, where=hh > tol)
     with np.errstate(invalid="ignore"):
         h = np.sqrt(hh, out=hh)
+    if BRANCH != 1.0:
+        np.negative(h, out=h)
     k = 0.5 / R3
     p = zl2 + (R3 * R3 - R4 * R4)  # 2 ZL R3 cos PSI
     c3 = dx * p
