@@ -211,3 +211,48 @@ def test_reachable_spreads_angles_where_the_loop_closes():
         assert analyze(triple, th, ["ATH4"]).not_assembled == 0
     np.testing.assert_array_equal(sielaff.reachable(EXAMPLE, 4), [0.0, 90.0, 180.0, 270.0])
     assert len(sielaff.reachable(lengths(1.0, 1.0, 1.0, 3.0), 10)) == 0  # never closes
+
+
+# ----- any point on any link --------------------------------------------------------------------
+def test_points_at_the_pins_and_centres_are_the_engines():
+    from sielaff import point_motion
+
+    th = np.arange(0.0, 360.0, 15.0)
+    r = analyze(EXAMPLE, th, ["VG3X", "VG3Y", "AG3X", "AG3Y", "VBX", "VBY", "ABX", "ABY",
+                              "AG2X", "AG2Y"], th2dd=7.0)
+    g3 = point_motion(EXAMPLE, th, 3, EXAMPLE.RG3, EXAMPLE.ADEL3, th2dd=7.0)
+    b = point_motion(EXAMPLE, th, 4, EXAMPLE.R4, 0.0, th2dd=7.0)
+    g2 = point_motion(EXAMPLE, th, 2, EXAMPLE.RG2, EXAMPLE.ADEL2, th2dd=7.0)
+    for got, name in ((g3, "G3"), (b, "B"), (g2, "G2")):
+        for q in ("V", "A"):
+            if (q, name) == ("V", "G2"):
+                continue
+            for xy in "XY":
+                np.testing.assert_allclose(got[q + xy], r[f"{q}{name}{xy}"], rtol=1e-12,
+                                           atol=1e-9, err_msg=q + name + xy)
+    # B on link 3 (r = R3 from A) is B on link 4: one point, two links
+    b3 = point_motion(EXAMPLE, th, 3, EXAMPLE.R3, 0.0)
+    b4 = point_motion(EXAMPLE, th, 4, EXAMPLE.R4, 0.0)
+    for key in b3:
+        np.testing.assert_allclose(b3[key], b4[key], rtol=1e-12, atol=1e-9, err_msg=key)
+
+
+@pytest.mark.parametrize("branch", ["open", "crossed"])
+def test_point_rates_are_the_derivatives_of_its_path(branch):
+    """Velocity and acceleration against a spectral derivative of the coupler curve."""
+    from sielaff import point_motion
+
+    n = 512
+    th = np.arange(n) * 360.0 / n
+    w = EXAMPLE.TH2D
+    p = point_motion(EXAMPLE, th, 3, np.array([3.0, 11.0])[:, None],
+                     np.array([40.0, -70.0])[:, None], branch=branch)
+    k = np.fft.fftfreq(n, d=1.0 / n)  # d/dth2 (radians) is i k in Fourier space
+    for axis in "XY":
+        path = p[axis]
+        d1 = np.real(np.fft.ifft(1j * k * np.fft.fft(path, axis=-1), axis=-1)) * w
+        d2 = np.real(np.fft.ifft(-(k**2) * np.fft.fft(path, axis=-1), axis=-1)) * w * w
+        scale = np.max(np.abs(p["A" + axis]))
+        np.testing.assert_allclose(p["V" + axis], d1, atol=1e-7 * np.max(np.abs(d1)))
+        np.testing.assert_allclose(p["A" + axis], d2, atol=1e-6 * scale)
+    assert p["X"].shape == (2, n)

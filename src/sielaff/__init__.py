@@ -11,6 +11,8 @@ The public API, in one place (everything else is reached through its module):
   (``sielaff.engine``), with the effects a scene calls for (docs/effects.md).
 * ``linkage_class(mechanism)``: which four-bar it is (crank-rocker, double-crank, ...),
   its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
+* ``reachable(mechanism, n)``, ``point_motion(mechanism, ath2, link, r, angle)``: crank
+  angles a linkage can reach; the path, velocity and acceleration of any point.
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -21,13 +23,14 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
-           "__version__", "analyze", "linkage_class", "reachable", "read_deck"]
+           "__version__", "analyze", "linkage_class", "point_motion", "reachable",
+           "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
     if name in ("analyze", "Results", "AssemblyWarning", "Load", "linkage_class",
-                "reachable"):
+                "reachable", "point_motion"):
         from sielaff import engine
 
         return getattr(engine, name)

@@ -111,6 +111,7 @@ from sielaff.engine.analysis import AssemblyWarning, Results, analyze, plan
 from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
 from sielaff.engine.loads import Load
 from sielaff.engine.outputs import INPUTS, KINEMATIC_OUTPUTS, OUTPUTS, RESULTS, VECTORS
+from sielaff.engine.points import point_motion
 from sielaff.engine.positions import reachable
 from sielaff.engine.registry import STEP_CALLS, STEPS, step
 from sielaff.quantities import G
@@ -133,6 +134,7 @@ __all__ = [
     "analyze",
     "linkage_class",
     "plan",
+    "point_motion",
     "reachable",
     "step",
 ]
