@@ -2,7 +2,8 @@
 
     python docs/make_images.py
 
-Writes docs/img/fig12-driving-torque.png (the README's Fig. 12).
+Writes docs/img/fig12-driving-torque.png (the README's Fig. 12) and
+docs/img/fig9-linkage.png (the report's Figure 9, the example's linkage, redrawn).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import os
 
 from sielaff.emulator.cards import read_deck
 from sielaff.tools.plot import plot_data, render
+from sielaff.tools.plot.linkage import write_linkage
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -23,6 +25,11 @@ def main() -> None:
         path = os.path.join(ROOT, "docs", "img", data[name].filename)
         render(data[name], path)
         print(path)
+    folder = os.path.join(ROOT, "docs", "img")
+    (png,) = write_linkage(deck, folder, at=(40.0,))
+    target = os.path.join(folder, "fig9-linkage.png")
+    os.replace(png, target)
+    print(target)
 
 
 if __name__ == "__main__":

@@ -330,3 +330,57 @@ def test_help_names_every_figure_file():
         for d in plot_data(deck, only).values():
             assert d.filename in text
     assert "Figures 12, 13, 14 and 16" in text and "15 and 17" in text
+
+
+# ----- the linkage drawn: Figure 9, and one cycle animated --------------------------------------
+def test_linkage_drawing_data_is_the_mechanism(tmp_path):
+    from sielaff.tools import plot as plots
+    from sielaff.tools.plot import linkage
+
+    deck = read_deck(DECKS / "example.dat")
+    d = linkage.linkage_data(deck, at=(40.0, 130.0), points=[(3, 16.0, 20.0)])
+    t2 = np.radians([40.0, 130.0])
+    r = analyze(EXAMPLE, [40.0, 130.0], ["ATH3", "ATH4"])
+    t3, t4 = np.radians(r["ATH3"]), np.radians(r["ATH4"])
+    ax, ay = EXAMPLE.R2 * np.cos(t2), EXAMPLE.R2 * np.sin(t2)
+    np.testing.assert_allclose(d.joints["A"][0], ax, atol=1e-12)
+    np.testing.assert_allclose(d.joints["A"][1], ay, atol=1e-12)
+    np.testing.assert_allclose(d.joints["B"][0], ax + EXAMPLE.R3 * np.cos(t3), atol=1e-12)
+    np.testing.assert_allclose(d.joints["B"][1], EXAMPLE.R4 * np.sin(t4), atol=1e-12)
+    bx = EXAMPLE.R1 + EXAMPLE.R4 * np.cos(t4)
+    np.testing.assert_allclose(d.joints["B"][0], bx, atol=1e-12)  # the loop closes
+    assert set(d.curves) == {"G3", "P1 (link 3, 16, 20 deg)"} and d.toggles == []
+    plt = plots._pyplot()
+    fig = linkage._draw_linkage(plt, d)
+    try:
+        assert plots.overlapping(plots.text_boxes(fig)) == []
+    finally:
+        plt.close(fig)
+
+
+def test_linkage_of_a_triple_rocker_marks_its_toggles():
+    from sielaff.tools.plot import linkage
+
+    deck = read_deck(DECKS / "example.dat")
+    deck.mechanism = EXAMPLE.replace(R1=10.0, R2=4.0, R3=5.0, R4=4.0, RG3=2.5, RG4=2.0)
+    d = linkage.linkage_data(deck, at=(0.0,))
+    assert d.toggles == pytest.approx([64.0555, 295.9445], abs=1e-3)
+    assert "triple-rocker" in d.title
+
+
+@pytest.mark.slow
+def test_plot_linkage_and_animate_write_the_files(tmp_path):
+    out = tmp_path / "lk"
+    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(DECKS / "example.dat"),
+                        "--linkage", "--at", "40,130", "--animate", "-o", str(out)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["linkage.gif", "linkage.png"]
+    from PIL import Image
+
+    with Image.open(out / "linkage.gif") as im:
+        assert im.n_frames == 36
+    bad = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(DECKS / "example.dat"),
+                          "--linkage", "--point", "5:1:0", "-o", str(out)],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "LINK 2, 3 or 4" in bad.stderr

@@ -49,6 +49,30 @@ def tex_value(text: str) -> float:
     return value
 
 
+def angle_list(text: str) -> tuple[float, ...]:
+    """argparse type for ``--at``: crank angles in degrees, comma-separated."""
+    try:
+        values = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or not all(abs(v) < 1e9 for v in values):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a list of angles (40 or 30,60,90)")
+    return values
+
+
+def point_spec(text: str) -> tuple[int, float, float]:
+    """argparse type for ``--point``: LINK:R:ANGLE."""
+    try:
+        link, r, angle = text.split(":")
+        spec = (int(link), float(r), float(angle))
+    except ValueError:
+        spec = (0, 0.0, 0.0)
+    if spec[0] not in (2, 3, 4):
+        raise argparse.ArgumentTypeError(f"{text!r}: write LINK:R:ANGLE, LINK 2, 3 or 4 "
+                                         "(e.g. 3:8:-15)")
+    return spec
+
+
 def sheet_count(text: str) -> int:
     """argparse type for ``--max-sheets``: a whole number >= 0."""
     try:
@@ -183,6 +207,18 @@ def build_parser() -> argparse.ArgumentParser:
                    help="directory for the PNG files (created if needed)")
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: velocity and acceleration curves instead of the forces")
+    p.add_argument("--linkage", action="store_true",
+                   help="draw the linkage itself to scale (linkage.png): joints, centres of "
+                        "mass, the path of G3, toggle limits (the report's Figure 9)")
+    p.add_argument("--at", type=angle_list, default=(40.0,), metavar="DEG[,DEG...]",
+                   help="with --linkage: the crank angles drawn (default 40)")
+    p.add_argument("--point", type=point_spec, action="append", default=[],
+                   metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "
+                   "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")
+    p.add_argument("--branch", choices=("open", "crossed"), default="open",
+                   help="with --linkage: the assembly drawn (open: the 1966 program's)")
+    p.add_argument("--animate", action="store_true",
+                   help="also write linkage.gif, one cycle (matplotlib's Pillow writer)")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")

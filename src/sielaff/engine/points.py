@@ -45,6 +45,7 @@ def point_motion(mechanism: Mechanism, ath2: Any, link: int, r: Any = 0.0, angle
     phi = np.radians(th + np.asarray(angle, dtype=float))
     dx, dy = np.asarray(r, dtype=float) * np.cos(phi), np.asarray(r, dtype=float) * np.sin(phi)
     bx, by = base[link]
-    return {"X": bx + dx, "Y": by + dy,
-            "VX": vb[0] - w * dy, "VY": vb[1] + w * dx,
-            "AX": ab[0] - a * dy - w * w * dx, "AY": ab[1] + a * dx - w * w * dy}
+    with np.errstate(all="ignore"):  # at a toggle the rates are infinite: answers, as analyze
+        return {"X": bx + dx, "Y": by + dy,
+                "VX": vb[0] - w * dy, "VY": vb[1] + w * dx,
+                "AX": ab[0] - a * dy - w * w * dx, "AY": ab[1] + a * dx - w * w * dy}

@@ -50,6 +50,13 @@ from sielaff.emulator.cards import Deck
 from sielaff.engine import analyze
 from sielaff.engine.derived import cycle_work
 from sielaff.tools.common import work_text
+from sielaff.tools.plot.render import (  # noqa: F401 (part of this module's interface)
+    _pyplot,
+    _subtitle,
+    overlapping,
+    text_boxes,
+    write_files,
+)
 
 __all__ = ["STEP", "PlotData", "plot_data", "render", "sample_angles", "write_plots"]
 
@@ -228,19 +235,6 @@ KINEMATIC_FIGURES = (
 XLABEL = "THETA 2, crank angle (deg)"
 
 
-def _subtitle(deck: Deck, scene: dict | None = None) -> str:
-    from sielaff.quantities import unit
-    from sielaff.tools.common import describe_scene
-
-    m = deck.mechanism
-    system = getattr(m, "units", "in-lb-sec")
-    length = unit("R1", system)
-    effects = describe_scene(scene, system)
-    return (f"{os.path.basename(deck.path)}: R1 {m.R1:g}, R2 {m.R2:g}, R3 {m.R3:g}, "
-            f"R4 {m.R4:g} {length}; TH2D {m.TH2D:g} {unit('TH2D', system)}"
-            + (f"; {effects}" if effects else ""))
-
-
 def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
               ) -> dict[str, PlotData]:
     """The data of every figure for ``deck``, keyed by file stem (see module doc).
@@ -293,17 +287,6 @@ def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
 # --------------------------------------------------------------------------
 # Drawing
 # --------------------------------------------------------------------------
-
-
-def _pyplot():
-    try:
-        import matplotlib
-    except ImportError:
-        raise ImportError("sielaff plot needs matplotlib: pip install 'sielaff[plot]'") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _draw_line(plt, d: PlotData):
@@ -398,47 +381,6 @@ def _place_labels(marks, curve_xy: np.ndarray, obstacles=(),
         placed.append(box)
         out.append((dx, dy, dist > 10))
     return out
-
-
-def text_boxes(fig) -> list[tuple[str, tuple[float, float, float, float]]]:
-    """Every visible, non-empty text of ``fig`` with its box in display pixels
-    (x0, y0, x1, y1), as the renderer draws it: titles, tick labels, legend entries,
-    annotations.  The tests check that no two of them intersect."""
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    from matplotlib.text import Text
-
-    # Ticks outside the view limits keep a label that is never drawn: leave those out.
-    seen, out = set(), []
-    for ax in fig.axes:
-        try:  # matplotlib's own list of the ticks it draws (private, since 3.x)
-            axes_axes = list(ax._axis_map.values())
-            drawn = {id(t) for axis in axes_axes for t in axis._update_ticks()}
-        except AttributeError:  # pragma: no cover - a matplotlib without it: count all
-            continue
-        for axis in axes_axes:
-            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
-                if id(tick) not in drawn:
-                    seen.update((id(tick.label1), id(tick.label2)))
-
-    for t in fig.findobj(Text):  # Text and Annotation; a legend's TextArea holds a Text
-        if id(t) in seen or not t.get_visible() or not str(t.get_text()).strip():
-            continue
-        seen.add(id(t))
-        bb = Text.get_window_extent(t, renderer)  # an annotation's text, not its leader
-        if bb.width > 0 and bb.height > 0:
-            out.append((str(t.get_text()), (bb.x0, bb.y0, bb.x1, bb.y1)))
-    return out
-
-
-def overlapping(boxes) -> list[tuple[str, str]]:
-    """Pairs of texts whose boxes intersect."""
-    pairs = []
-    for i, (ta, a) in enumerate(boxes):
-        for tb, b in boxes[i + 1:]:
-            if a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]:
-                pairs.append((ta, tb))
-    return pairs
 
 
 def _rlabel_angle(th: np.ndarray, r: np.ndarray) -> float:
@@ -556,18 +498,6 @@ def render(d: PlotData, path: str) -> None:
     write_files({path: render_png(d)})
 
 
-def write_files(images: dict[str, bytes]) -> None:
-    """Write every file, all or none: temporary files first, renamed only when every one
-    is written (an interruption or a failure changes no file)."""
-    from sielaff.tools.output import atomic_files
-
-    paths = list(images)
-    with atomic_files(paths) as temps:
-        for tmp, path in zip(temps, paths):
-            with open(tmp, "wb") as f:
-                f.write(images[path])
-
-
 def write_plots(deck: Deck, directory: str, only: str | None = None,
                 scene: dict | None = None) -> list[str]:
     """Write every figure of ``deck`` into ``directory`` (created if needed), all of them or
@@ -595,7 +525,14 @@ def cmd_plot(args) -> int:
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
     deck, scene = load_scene(args.deck)
-    for path in write_plots(deck, args.output, args.only, scene):
+    if args.linkage or args.animate:
+        from sielaff.tools.plot.linkage import write_linkage
+
+        paths = write_linkage(deck, args.output, args.at, args.point, args.branch,
+                              args.animate)
+    else:
+        paths = write_plots(deck, args.output, args.only, scene)
+    for path in paths:
         print(path)
     sys.stdout.flush()
     return 0
