@@ -384,3 +384,17 @@ def test_plot_linkage_and_animate_write_the_files(tmp_path):
                           "--linkage", "--point", "5:1:0", "-o", str(out)],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "LINK 2, 3 or 4" in bad.stderr
+
+
+def test_plot_linkage_draws_any_four_bar(tmp_path):
+    """--linkage is for every kind; the report's figures stay for crank-rockers (exit 3)."""
+    lines = (DECKS / "example.dat").read_text().splitlines()
+    lines[2] = "    10.0     4.0     5.0     4.0"  # a triple-rocker
+    deck = tmp_path / "tri.dat"
+    deck.write_text("\n".join(lines) + "\n")
+    ok = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck), "--linkage",
+                         "-o", str(tmp_path / "a")], capture_output=True, text=True)
+    assert ok.returncode == 0 and (tmp_path / "a" / "linkage.png").stat().st_size > 10_000
+    refused = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck),
+                              "-o", str(tmp_path / "b")], capture_output=True, text=True)
+    assert refused.returncode == 3 and "NOT A CRANK ROCKER" in refused.stderr

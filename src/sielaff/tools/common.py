@@ -199,14 +199,20 @@ def read_spec_deck(path: str) -> tuple[Deck, dict]:
     return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
 
 
-def load_scene(path: str, outputs=None) -> tuple[Deck, dict]:
+def load_scene(path: str, outputs=None, any_linkage: bool = False) -> tuple[Deck, dict]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
     (the deck, ``analyze``'s keywords for the scene).  Checked as ``load_for_engine``
-    says, with the scene's effects in the results."""
+    says, with the scene's effects in the results; with ``any_linkage`` any four-bar
+    whose fields can exist (the crank-rocker test and the ranges do not apply)."""
     if path.endswith(".toml"):
         deck, scene = read_spec_deck(path)
     else:
         deck, scene = load_deck(path), dict(NO_SCENE)
+    if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
+        problem = mechanism_problem(deck)
+        if problem is not None and problem.status == EXIT_DECK:
+            raise problem
+        return deck, scene
     problem = (mechanism_problem(deck) or range_problem(deck)
                or results_problem(deck, outputs, scene))
     if problem is not None:

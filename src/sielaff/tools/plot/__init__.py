@@ -524,7 +524,7 @@ def cmd_plot(args) -> int:
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
-    deck, scene = load_scene(args.deck)
+    deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate)
     if args.linkage or args.animate:
         from sielaff.tools.plot.linkage import write_linkage
 
