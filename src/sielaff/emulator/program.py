@@ -81,11 +81,17 @@ class NotCrankRocker(Exception):
     of statements 45-51 failed, in the run's arithmetic."""
 
 
-def _failed_test(A, B, C, ABS, arithmetic: str) -> str:
-    """The first of the tests of statements 45-51 that fails, as the program evaluated it."""
+def first_failed_test(A, B, C, ABS) -> str | None:
+    """The first of the tests of statements 45-51 that fails (its FORTRAN text), in the
+    arithmetic A, B and C are in, or None when the program would go on to statement 54."""
     tests = (("A.GT.1.0", A > 1.0), ("B.GT.1.0", B > 1.0), ("C.GT.1.0", C > 1.0),
              ("C.LT.(A+B-1.0)", C < (A + B - 1.0)), ("C.GT.(ABS(B-A)+1.0)", C > (ABS(B - A) + 1.0)))
-    failed = next((text for text, ok in tests if not ok), "?")
+    return next((text for text, ok in tests if not ok), None)
+
+
+def _failed_test(A, B, C, ABS, arithmetic: str) -> str:
+    """The refusal's text: which test of statements 45-51 failed, as the program evaluated it."""
+    failed = first_failed_test(A, B, C, ABS) or "?"
     return (f"IF({failed}) fails in {arithmetic} arithmetic (A = {float(A):.9g}, "
             f"B = {float(B):.9g}, C = {float(C):.9g})")
 

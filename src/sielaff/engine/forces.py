@@ -80,14 +80,14 @@ def _force_link2(FG2X, FG2Y):
     return FG2X, FG2Y
 
 
-@step(provides=("fa32x_e", "fa32y_e", "fb34x_e", "fb34y_e", "foax_e", "foay_e", "fobx_e",
-                "foby_e", "torq_e"),
-      needs=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g", "foby_g",
-             "TORQ_GRAVITY", "fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l", "foax_l", "foay_l",
-             "fobx_l", "foby_l", "TORQ_LOADS", "torq_c"),
-      zero_when=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
+#: What gravity, the loads and the crank's inertia torque each add (all zero: no effect).
+_EFFECT_PARTS = ("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
                  "foby_g", "TORQ_GRAVITY", "fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l",
-                 "foax_l", "foay_l", "fobx_l", "foby_l", "TORQ_LOADS", "torq_c"))
+                 "foax_l", "foay_l", "fobx_l", "foby_l", "TORQ_LOADS", "torq_c")
+
+
+@step(provides=("fa32x_e", "fa32y_e", "fb34x_e", "fb34y_e", "foax_e", "foay_e", "fobx_e",
+                "foby_e", "torq_e"), needs=_EFFECT_PARTS, zero_when=_EFFECT_PARTS)
 def _effects(fa32x_g, fa32y_g, fb34x_g, fb34y_g, foax_g, foay_g, fobx_g, foby_g, TORQ_GRAVITY,
              fa32x_l, fa32y_l, fb34x_l, fb34y_l, foax_l, foay_l, fobx_l, foby_l, TORQ_LOADS,
              torq_c):

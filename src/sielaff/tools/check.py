@@ -160,16 +160,12 @@ def _first(pred, lo: int, hi: int) -> int:
 
 def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
     """Predict the sheets of one range card without running the loop."""
+    from sielaff.emulator.ranges import sheet_count
+
     th = thzero - delta
-    if delta <= 0.0:
-        if thzero <= thmax:
-            return RangeSheets(thzero, delta, thmax, None)
-        n = 1
-    else:
-        hi = max(2, math.ceil((thmax - thzero) / delta) + 3)
-        while not _angle(th, delta, hi) > thmax:
-            hi *= 2
-        n = _first(lambda i: _angle(th, delta, i) > thmax, 1, hi)
+    n = sheet_count(thzero, delta, thmax)  # the port's own float64 loop, counted
+    if n is None:
+        return RangeSheets(thzero, delta, thmax, None)
     first, last = _angle(th, delta, 1), _angle(th, delta, n)
     past = below = None
     if delta > 0.0:
@@ -550,8 +546,9 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
 
 def _program_test_passes(m: Mechanism) -> bool:
     """The 1966 test of statements 45-51 as the float64 port evaluates it."""
-    A, B, C = m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2
-    return A > 1.0 and B > 1.0 and C > 1.0 and C < A + B - 1.0 and C > abs(B - A) + 1.0
+    from sielaff.emulator.program import first_failed_test
+
+    return first_failed_test(m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2, abs) is None
 
 
 def cmd_check(args) -> int:

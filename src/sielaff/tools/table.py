@@ -72,15 +72,13 @@ import numpy as np
 from sielaff import engine
 from sielaff.emulator.cards import Deck
 
-__all__ = ["BLOCK", "CHUNK", "FORMATS", "MAX_POSITIONS", "columns", "count", "angles",
+__all__ = ["BLOCK", "CHUNK", "FORMATS", "columns", "count", "angles",
            "header", "write_table", "cmd_table"]
 
 #: Positions per engine call.
 BLOCK = 100_000
 #: Rows formatted at a time (bounds the Python objects alive at once).
 CHUNK = 10_000
-#: More positions than this on one card is refused (doubles cannot tell them apart).
-MAX_POSITIONS = 2**53
 FORMATS = ("csv", "json")
 
 
@@ -258,16 +256,11 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import load_scene, refuse_overwriting_inputs
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
     deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:])
-    for i, card in enumerate(deck.range_cards):
-        if count(*_exact(deck, i)) > MAX_POSITIONS:
-            thzero, delta, thmax = deck.ranges[i]
-            raise CommandError(f"{deck.path}: card {card}: THZERO = {thzero:g}, DELTA = "
-                               f"{delta:g}, THMAX = {thmax:g}: more than 2**53 positions")
 
     def warn(text: str) -> None:
         print(f"sielaff: warning: {text}", file=sys.stderr)

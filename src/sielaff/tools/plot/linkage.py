@@ -50,8 +50,9 @@ def linkage_data(deck: Deck, at=(40.0,), points=(), branch: str = "open") -> Lin
     curves = {"G3": xy(3, m.RG3, m.ADEL3, sweep)}
     for k, (link, r, angle) in enumerate(points, 1):
         curves[f"P{k} (link {link}, {r:g}, {angle:g} deg)"] = xy(link, r, angle, sweep)
-    toggles = [float(t) for t in np.ravel(linkage_class(m).toggles) if np.isfinite(t)]
-    kind = linkage_class(m).kind
+    c = linkage_class(m)
+    toggles = [float(t) for t in np.ravel(c.toggles) if np.isfinite(t)]
+    kind = c.kind
     title = (f"The linkage ({kind}, {branch} branch) at THETA 2 = "
              + ", ".join(f"{a:g}" for a in at) + f" deg\n{_subtitle(deck)}")
     return LinkageData(at, joints, curves, toggles, title,
