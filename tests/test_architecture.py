@@ -58,7 +58,7 @@ def imports(name: str) -> set[str]:
 GRAPH = {name: imports(name) for name in MODULES}
 
 
-def layer(name: str) -> int:
+def layer(name: str) -> float:
     if name == "sielaff.__main__":
         return 7
     if name == "sielaff.cli":
@@ -67,13 +67,15 @@ def layer(name: str) -> int:
         return 5 if name not in SHARED_TOOLS else 4
     if name == "sielaff.tools":
         return 4
+    if name == "sielaff.design" or name.startswith("sielaff.design."):
+        return 3.5  # above the engine, below the tools
     if name.startswith(("sielaff.engine", "sielaff.emulator")):
         return 3
     return {"sielaff.quantities": 2, "sielaff.mechanism": 1, "sielaff.version": 0}[name]
 
 
 def group(name: str) -> str:
-    for g in ("sielaff.tools", "sielaff.engine", "sielaff.emulator"):
+    for g in ("sielaff.tools", "sielaff.engine", "sielaff.emulator", "sielaff.design"):
         if name == g or name.startswith(g + "."):
             return g
     return name

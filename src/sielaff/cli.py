@@ -49,6 +49,30 @@ def tex_value(text: str) -> float:
     return value
 
 
+def positive_length(text: str) -> float:
+    """argparse type for a counterweight's radius: a finite number > 0."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a length > 0")
+    return value
+
+
+def worker_count(text: str) -> int:
+    """argparse type for ``--workers``: 1 or more."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of workers (1, 2, ...)")
+    return value
+
+
 def angle_list(text: str) -> tuple[float, ...]:
     """argparse type for ``--at``: crank angles in degrees, comma-separated."""
     try:
@@ -98,6 +122,10 @@ EXAMPLES = {
     "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
     "help": "example:\n  sielaff help deck",
     "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md",
+    "balance": "example:\n  sielaff balance decks/example.dat\n"
+               "  sielaff balance decks/scene.toml -o out/balanced.toml",
+    "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
+             "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
 }
 
 
@@ -108,6 +136,7 @@ COMMANDS = {
     "table": "sielaff.tools.table:cmd_table", "check": "sielaff.tools.check:cmd_check",
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
+    "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
 }
 
 
@@ -219,6 +248,31 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with --linkage: the assembly drawn (open: the 1966 program's)")
     p.add_argument("--animate", action="store_true",
                    help="also write linkage.gif, one cycle (matplotlib's Pillow writer)")
+
+    p = add("balance", "counterweights on the crank and rocker that cancel the shaking "
+            "force (Berkof-Lowen), and what they cost: shaking moment, torque, pin loads")
+    p.add_argument("deck", metavar="DECK|SPEC.toml")
+    p.add_argument("--radius2", type=positive_length, metavar="R",
+                   help="the crank's counterweight this far from O2 (default R2)")
+    p.add_argument("--radius4", type=positive_length, metavar="R",
+                   help="the rocker's counterweight this far from O4 (default R4)")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="also write the balanced design: a spec if FILE ends .toml, else a "
+                        "deck (atomically)")
+
+    p = add("sweep", "a grid of designs from a spec's [sweep]: per design the peak and RMS "
+            "torque, flywheel, pin loads, shaking force and moment, transmission angle, kind")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the table here (atomically) instead of stdout")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="also draw the Pareto plot of the [sweep]'s two pareto figures")
+    p.add_argument("--workers", type=worker_count, default=None, metavar="N",
+                   help="local processes/threads (default: all cores, through dask when it "
+                        "is installed; 1: in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
+                        "(e.g. tcp://host:8786)")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")

@@ -394,6 +394,23 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
             f"Y component from {sy_neg:.1f} to {sy:.1f} {U['lb']}")
 
 
+def _design_section(m: Mechanism, rep: CheckReport, scene: dict | None = None) -> None:
+    """The flywheel and the bearings (docs/design.md); a crank acceleration has no steady
+    speed to size a flywheel for."""
+    from sielaff.design import bearings, flywheel
+    from sielaff.design.report import bearing_lines, flywheel_lines
+
+    scene = dict(scene or {})
+    if scene.get("th2dd", 0.0) == 0.0:
+        for line in flywheel_lines(flywheel(m, **scene), m.units):
+            rep.add(line)
+    else:
+        rep.add("  flywheel: not sized (the scene accelerates the crank; a flywheel is sized "
+                "at a steady speed)")
+    for line in bearing_lines(bearings(m, **scene), m.units):
+        rep.add(line)
+
+
 class _Collector:
     """A ``notice`` callback that keeps the port's notices by kind."""
 
@@ -516,6 +533,7 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
         overflow = results_problem(deck, None, scene)
         if overflow is None:
             _revolution_section(deck.mechanism, rep, scene)
+            _design_section(deck.mechanism, rep, scene)
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()

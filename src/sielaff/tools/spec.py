@@ -193,7 +193,7 @@ def spec_values(spec: dict, path: str = "<spec>"
         keys = sections.setdefault(section, [])
         if key not in keys:
             keys.append(key)
-    _unknown(path, spec, [*sections, "range", "deck", "scene"])
+    _unknown(path, spec, [*sections, "range", "deck", "scene", "sweep"])
     values: dict[str, Decimal] = {}
     for section, keys in sections.items():
         if section not in spec:
@@ -378,3 +378,145 @@ def scene_of(spec: dict, path: str = "<spec>") -> dict:
                                  fx, fy, float(_number(f"{where} torque",
                                                        item.get("torque", 0)))))
     return out
+
+
+#: The [sweep] table's own keys (the rest are in [sweep.vary]).
+SWEEP_KEYS = ("angles", "cf", "pareto", "vary")
+#: Designs a sweep may ask for (each is one block's share of memory only while it runs).
+MAX_DESIGNS = 100_000_000
+
+
+def sweep_of(spec: dict, path: str = "<spec>") -> dict:
+    """The spec's ``[sweep]``: ``{"axes": {name: values}, "angles", "cf", "pareto"}``::
+
+        [sweep]
+        angles = 360                  # crank angles per revolution (default 360)
+        cf = 0.05                     # coefficient of speed fluctuation (flywheel)
+        pareto = ["TORQ_PEAK", "SHAK_PEAK"]   # the two figures plotted (both minimised)
+        [sweep.vary]                  # listing names (R4, W3, TH2D, ...) or BALANCE
+        R4 = { from = 10.0, to = 14.0, n = 41 }   # evenly spaced, both ends
+        W3 = [4.0, 8.0, 12.0]                     # or the values themselves
+        BALANCE = [0, 1]                          # without and with counterweights
+    """
+    import math
+
+    import numpy as np
+
+    from sielaff.design.figures import FIGURES
+    from sielaff.design.sweep import SWEEPABLE
+
+    table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
+    if not table:
+        raise PunchError(f"{path}: no [sweep] table (sielaff help sweep shows one)")
+    _unknown(f"{path}: [sweep]", table, SWEEP_KEYS)
+    angles = table.get("angles", 360)
+    if not (isinstance(angles, int) and not isinstance(angles, bool) and 8 <= angles
+            <= 100_000 and angles % 2 == 0):
+        raise PunchError(f"{path}: [sweep] angles = {angles!r}: an even whole number "
+                         "from 8 to 100000")
+    cf = float(_number(f"{path}: [sweep] cf", table.get("cf", Decimal("0.05"))))
+    if not 0.0 < cf < 2.0:
+        raise PunchError(f"{path}: [sweep] cf = {cf:g}: between 0 and 2 (0.05 is usual)")
+    pareto = table.get("pareto", ["TORQ_PEAK", "SHAK_PEAK"])
+    if not (isinstance(pareto, list) and len(pareto) == 2
+            and all(p in FIGURES and p != "KIND" for p in pareto)):
+        raise PunchError(f"{path}: [sweep] pareto = {pareto!r}: two of "
+                         f"{' '.join(f for f in FIGURES if f != 'KIND')}")
+    vary = _table(f"{path}: [sweep.vary]", table.get("vary", {}))
+    if not vary:
+        raise PunchError(f"{path}: [sweep.vary] is empty: name at least one field to vary")
+    axes = {}
+    for name, item in vary.items():
+        where = f"{path}: [sweep.vary] {name}"
+        if name not in SWEEPABLE:
+            raise PunchError(f"{where}: not a field a sweep can vary "
+                             f"({' '.join(SWEEPABLE)})")
+        if isinstance(item, list):
+            if not item:
+                raise PunchError(f"{where} = []: give at least one value")
+            values = np.array([float(_number(where, v)) for v in item])
+        else:
+            item = _table(where, item)
+            _unknown(where, item, ("from", "to", "n"))
+            if not {"from", "to", "n"} <= set(item):
+                raise PunchError(f"{where}: write {{ from = ..., to = ..., n = ... }} or a "
+                                 "list of values")
+            n = item["n"]
+            if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
+                raise PunchError(f"{where} n = {n!r}: a whole number, 1 or more")
+            if n > MAX_DESIGNS:
+                raise PunchError(f"{where} n = {n}: more than {MAX_DESIGNS} values")
+            values = np.linspace(float(_number(where + " from", item["from"])),
+                                 float(_number(where + " to", item["to"])), n)
+        if not np.all(np.isfinite(values)):
+            raise PunchError(f"{where}: values must be finite")
+        if name == "BALANCE" and not np.all(np.isin(values, (0.0, 1.0))):
+            raise PunchError(f"{where}: 0 (as designed) or 1 (balanced)")
+        axes[name] = values
+    size = math.prod(len(v) for v in axes.values())
+    if size > MAX_DESIGNS:
+        raise PunchError(f"{path}: [sweep.vary] makes {size} designs, more than "
+                         f"{MAX_DESIGNS}")
+    return {"axes": axes, "angles": angles, "cf": cf, "pareto": pareto}
+
+
+def spec_dict(values: dict[str, Decimal], ranges: list[tuple[Decimal, Decimal, Decimal]],
+              base: dict | None = None) -> dict:
+    """A spec (parsed form) with the 17 listing ``values`` and the range cards, keeping
+    every other table of ``base`` (its [scene], [deck], [sweep])."""
+    spec = {k: v for k, v in (base or {}).items()
+            if k not in {s for s, _, _ in SPEC_NAMES} | {"range"}}
+    for (section, key, sub), name in SPEC_NAMES.items():
+        table = spec.setdefault(section, {})
+        if sub is None:
+            table[key] = values[name]
+        else:
+            table.setdefault(key, {})[sub] = values[name]
+    spec["range"] = [dict(zip(RANGE_KEYS, r)) for r in ranges]
+    return spec
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, Decimal)):
+        text = str(v)
+        return text if isinstance(v, int) or "." in text or "E" in text else text + ".0"
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(f"cannot write {v!r} in a spec")
+
+
+def spec_text(spec: dict, header: str = "") -> str:
+    """TOML text for a parsed spec (the inverse of :func:`read_spec`, comments aside)."""
+    lines = [f"# {h}" for h in header.splitlines()]
+
+    def table(name: str, body: dict) -> None:
+        lines.append(f"\n[{name}]")  # sub-tables inline; lists of tables as [[name.key]]
+        lines.extend(f"{k} = {_toml_value(v)}" for k, v in body.items() if not _is_tables(v))
+        for k, v in body.items():
+            if _is_tables(v):
+                for item in v:
+                    lines.append(f"\n[[{name}.{k}]]")
+                    lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in item.items())
+
+    for name, body in spec.items():
+        if isinstance(body, dict):
+            table(name, body)
+        elif _is_tables(body):
+            for item in body:
+                lines.append(f"\n[[{name}]]")
+                lines.extend(f"{k} = {_toml_value(v)}" for k, v in item.items())
+        else:
+            lines.insert(len(header.splitlines()), f"{name} = {_toml_value(body)}")
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def _is_tables(v) -> bool:
+    return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)

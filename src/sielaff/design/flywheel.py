@@ -1,0 +1,149 @@
+"""The flywheel a driving torque calls for.
+
+In:  the driving torque TORQ (in-lb or N m) over one revolution at the mean crank speed
+     TH2D (rad/sec), and the coefficient of speed fluctuation ``cf`` (dimensionless).
+Out: the energy fluctuation (in-lb or J), the flywheel inertia about O2 (in-lb-sec^2 or
+     kg m^2), the motor's mean torque and power, and the speed with the flywheel on.
+
+With a motor that gives the mean torque ``Tm`` (the cycle's mean of TORQ), the
+flywheel gives or takes the rest, and its kinetic energy falls by
+
+    E(th2) = integral from 0 to th2 of (TORQ - Tm) d(th2)          (th2 in radians)
+
+The energy fluctuation is ``energy = max E - min E``.  The speed is largest where E is
+least, and ``I (wmax^2 - wmin^2) / 2 = energy``.  With ``w_avg = (wmax + wmin) / 2``
+and ``cf = (wmax - wmin) / w_avg`` this is exactly
+
+    inertia = energy / (cf * w_avg^2)                           (Norton's eq. 11.20)
+
+with w_avg = TH2D.  As in the textbooks, TORQ is the torque at constant speed: the
+fluctuation it allows must be small (cf of a few per cent) for that to hold.
+
+E is integrated spectrally: TORQ is smooth and periodic, so the Fourier series of its
+samples integrates to machine precision, and the extremes of E (where TORQ = Tm) are
+found by Newton's method on that series, not taken from the grid.  ``n`` samples.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sielaff.engine.analysis import analyze
+from sielaff.engine.classify import linkage_class
+from sielaff.mechanism import Mechanism
+
+__all__ = ["Flywheel", "flywheel", "flywheel_from_torque"]
+
+#: Samples per revolution (a power of two is not needed; even is).
+SAMPLES = 3600
+
+
+@dataclass(frozen=True)
+class Flywheel:
+    """The flywheel answer (arrays over designs when the inputs are).
+
+    ``energy``: the energy fluctuation (in-lb, or J in SI).  ``inertia``: the flywheel
+    inertia about O2 for ``cf`` at the mean speed ``th2d`` (in-lb-sec^2 or kg m^2).
+    ``mean_torque`` (in-lb or N m): what the motor gives with the flywheel on;
+    ``mean_power`` = mean_torque * th2d (in-lb/sec or W).  ``peak_torque``: the largest
+    |TORQ| without a flywheel.  ``theta2`` (degrees), ``torque`` (TORQ), ``energy_curve``
+    (E), ``speed`` (rad/sec, with the flywheel) on the sample grid; ``flywheel_torque``
+    = TORQ - mean_torque, what the flywheel gives.
+    """
+
+    cf: float
+    th2d: Any
+    energy: Any
+    inertia: Any
+    mean_torque: Any
+    mean_power: Any
+    peak_torque: Any
+    theta2: np.ndarray
+    torque: np.ndarray
+    energy_curve: np.ndarray
+    flywheel_torque: np.ndarray
+    speed: np.ndarray
+
+
+def _series(coef: np.ndarray, k: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Re(sum_k coef_k e^{i k theta}) over the last axis (theta broadcast against it)."""
+    return np.real(np.sum(coef * np.exp(1j * k * theta[..., None]), axis=-1))
+
+
+def _extreme(c_e, c_t, k, theta0, steps=4):
+    """E's extreme near theta0: Newton on dE/dtheta = TORQ - Tm = 0 (series in c_t)."""
+    theta = theta0
+    for _ in range(steps):
+        f = _series(c_t, k, theta)
+        df = _series(1j * k * c_t, k, theta)
+        with np.errstate(all="ignore"):
+            step_ = np.where(df != 0.0, f / df, 0.0)
+        theta = theta - np.clip(step_, -0.05, 0.05)
+    return _series(c_e, k, theta)
+
+
+def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
+    """The flywheel for ``torque`` sampled at THETA 2 = 360 j / n degrees, j = 0..n-1
+    (last axis; leading axes are designs), at mean speed ``th2d`` rad/sec."""
+    if not (isinstance(cf, (int, float)) and 0.0 < cf < 2.0):
+        raise ValueError(f"cf = {cf!r}: the coefficient of speed fluctuation is in (0, 2)")
+    t = np.asarray(torque, dtype=float)
+    n = t.shape[-1]
+    if n < 8 or n % 2:
+        raise ValueError(f"{n} torque samples: give an even number, at least 8")
+    if not np.all(np.isfinite(t)):
+        raise ValueError("the torque is not finite over the revolution (a toggle, or a "
+                         "position that does not assemble): no flywheel answer")
+    w = np.asarray(th2d, dtype=float)
+    spectrum = np.fft.rfft(t, axis=-1)
+    mean = spectrum[..., 0].real / n
+    k = np.arange(spectrum.shape[-1], dtype=float)
+    c_t = 2.0 * spectrum / n           # TORQ - Tm = Re sum_{k>=1} c_t e^{ik th}
+    c_t[..., 0] = 0.0
+    c_t[..., -1] = 0.0                 # the Nyquist term: no antiderivative on the grid
+    c_e = np.zeros_like(c_t)
+    c_e[..., 1:] = c_t[..., 1:] / (1j * k[1:])
+    theta = 2.0 * np.pi * np.arange(n) / n
+    g = np.fft.irfft(c_e * (n / 2.0), n, axis=-1)
+    curve = g - g[..., :1]             # E(0) = 0
+    i_max = np.argmax(curve, axis=-1)
+    i_min = np.argmin(curve, axis=-1)
+    e_max = _extreme(c_e, c_t, k, theta[i_max])
+    e_min = _extreme(c_e, c_t, k, theta[i_min])
+    energy = np.maximum(e_max - e_min, np.max(curve, axis=-1) - np.min(curve, axis=-1))
+    inertia = energy / (cf * w * w)
+    # the speed with the flywheel on: 1/2 I w^2 = 1/2 I wmax^2 - (E - min E)
+    w_max = w * (1.0 + cf / 2.0)
+    with np.errstate(all="ignore"):
+        speed = np.sqrt(np.maximum(
+            (w_max * w_max)[..., None] - 2.0 * (curve - curve.min(axis=-1, keepdims=True))
+            / np.asarray(inertia)[..., None], 0.0))
+    return Flywheel(cf=float(cf), th2d=w, energy=energy, inertia=inertia,
+                    mean_torque=mean, mean_power=mean * w,
+                    peak_torque=np.max(np.abs(t), axis=-1),
+                    theta2=np.degrees(theta), torque=t, energy_curve=curve,
+                    flywheel_torque=t - mean[..., None], speed=speed)
+
+
+def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, **scene: Any
+             ) -> Flywheel:
+    """The flywheel on the crank shaft of ``mechanism`` for coefficient ``cf``.
+
+    ``scene``: ``analyze``'s effect keywords (tex, gravity, loads; the crank speed is the
+    steady TH2D, so ``th2dd`` must be 0).  The mechanism's fields may be arrays (designs).
+    Raises ValueError for a linkage whose crank cannot turn fully.
+    """
+    if np.any(np.asarray(scene.get("th2dd", 0.0)) != 0.0) or callable(scene.get("th2dd")):
+        raise ValueError("a flywheel is sized at a steady mean speed: th2dd must be 0")
+    if not np.all(linkage_class(mechanism).turns_fully):
+        raise ValueError("the crank cannot make a whole revolution: no flywheel cycle")
+    theta = np.arange(n) * (360.0 / n)
+    fields = np.broadcast(*(np.asarray(v) for v in mechanism.as_tuple()))
+    ath2 = theta.reshape((1,) * fields.nd + (n,))
+    m = mechanism.replace(**{name: np.asarray(v)[..., None]
+                             for name, v in mechanism.as_dict().items()})
+    torq = analyze(m, ath2, ["TORQ"], **scene)["TORQ"]
+    return flywheel_from_torque(torq, np.asarray(mechanism.TH2D, dtype=float), cf)

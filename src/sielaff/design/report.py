@@ -1,0 +1,134 @@
+"""The design answers as the text ``sielaff check`` and ``sielaff balance`` print.
+
+Every number carries its unit (:func:`sielaff.quantities.unit`).  Values are printed to
+a precision the engine's last bits cannot change, except where a value sits within a
+few ulps of a printed-digit boundary, which the tests allow for.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from sielaff.design.balance import counterweights
+from sielaff.design.bearings import Pin
+from sielaff.design.flywheel import Flywheel
+from sielaff.engine.analysis import analyze
+from sielaff.mechanism import Mechanism
+from sielaff.quantities import unit
+
+__all__ = ["balance_lines", "bearing_lines", "compare", "flywheel_lines"]
+
+
+#: A value below this fraction of its scale is roundoff and printed as 0, so the text
+#: does not depend on the last bits of a CPU's libm.
+ROUNDOFF = 1e-9
+
+
+def _num(value: float, scale: float, width: int = 11) -> str:
+    if abs(value) <= ROUNDOFF * abs(scale):
+        return f"{'0':>{width}}"
+    return f"{value:{width}.4g}"
+
+
+def _energy_unit(system: str) -> str:
+    return "in-lb" if system == "in-lb-sec" else "J"
+
+
+def _power(value: float, system: str) -> str:
+    if value == 0.0:
+        return "0 in-lb/sec" if system == "in-lb-sec" else "0 W"
+    if system == "in-lb-sec":
+        return f"{value:.0f} in-lb/sec = {value / 6600.0:.3g} hp"
+    return f"{value:.0f} W"
+
+
+def flywheel_lines(fw: Flywheel, system: str) -> list[str]:
+    """The flywheel section."""
+    t, e, i = unit("TORQ", system), _energy_unit(system), unit("ZI2", system)
+    mean = float(fw.mean_torque)
+    if abs(mean) <= ROUNDOFF * float(fw.peak_torque):
+        mean = 0.0  # roundoff: the cycle's net work is zero (TEX = 0, no loads)
+    return [
+        f"  flywheel on the crank shaft (coefficient of speed fluctuation cf = {fw.cf:g}):",
+        f"    energy fluctuation        {float(fw.energy):11.4g} {e}",
+        f"    flywheel inertia          {float(fw.inertia):11.4g} {i} "
+        f"(at the mean speed TH2D = {float(fw.th2d):g} {unit('TH2D', system)})",
+        f"    motor's mean torque       {_num(mean, 1.0)} {t}, mean power "
+        + _power(mean * float(fw.th2d), system),
+        f"    peak |TORQ| without it    {float(fw.peak_torque):11.4g} {t} (with it the motor "
+        "gives the mean)",
+    ]
+
+
+def _arcs(arcs: list[tuple[float, float]]) -> str:
+    if not arcs:
+        return "none (loaded all round)"
+    return ", ".join(f"{a:.0f} to {b:.0f} deg" for a, b in arcs)
+
+
+def bearing_lines(pins: dict[str, Pin], system: str) -> list[str]:
+    """The bearings section (directions relative to each member, the report's Fig. 14)."""
+    f = unit("FA32", system)
+    out = ["  bearings (load direction on each member, deg CCW from its line; an arc never",
+           "  loaded is an oil-groove candidate; reversals: of the load along the line):"]
+    for pin in pins.values():
+        out.append(f"    pin {pin.name:2} ({pin.force:4}) peak {pin.peak:9.1f} {f} at "
+                   f"THETA 2 = {pin.at:5.1f} deg")
+        for m in pin.members:
+            out.append(f"      on the {m.name:7}: never loaded {_arcs(m.unloaded)}; "
+                       f"{m.reversals} reversal{'s' if m.reversals != 1 else ''}")
+    return out
+
+
+#: The comparison rows: (label, output, reduction).
+ROWS = (
+    ("peak shaking force", "SHAK", "max"),
+    ("peak |shaking moment|", "SHAKM", "maxabs"),
+    ("peak |driving torque|", "TORQ", "maxabs"),
+    ("RMS driving torque", "TORQ", "rms"),
+    ("peak load, pin O2", "FOA", "max"),
+    ("peak load, pin A", "FA32", "max"),
+    ("peak load, pin B", "FB34", "max"),
+    ("peak load, pin O4", "FOB", "max"),
+)
+
+
+def compare(before: Mechanism, after: Mechanism, n: int = 3600, **scene: Any
+            ) -> list[tuple[str, str, float, float]]:
+    """(label, unit, before, after) for :data:`ROWS` over one revolution."""
+    th = np.arange(n) * (360.0 / n)
+    names = sorted({r[1] for r in ROWS})
+    a, b = analyze(before, th, names, **scene), analyze(after, th, names, **scene)
+    out = []
+    for label, name, how in ROWS:
+        vals = []
+        for r in (a, b):
+            v = r[name]
+            vals.append(float(np.max(v)) if how == "max" else float(np.max(np.abs(v)))
+                        if how == "maxabs" else float(np.sqrt(np.mean(v * v))))
+        out.append((label, unit(name, before.units), vals[0], vals[1]))
+    return out
+
+
+def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
+                  radius4: Any = None, **scene: Any) -> list[str]:
+    """The counterweights and the comparison, side by side."""
+    system = before.units
+    w, r = unit("W2", system), unit("R1", system)
+    cw2, cw4 = counterweights(before, radius2, radius4)
+    out = ["Counterweights (Berkof-Lowen: the shaking force cancelled at every position)"]
+    for c, name in ((cw2, "crank (link 2)"), (cw4, "rocker (link 4)")):
+        out.append(f"  on the {name:15}: {float(c.weight):.4g} {w} at {float(c.radius):g} {r} "
+                   f"from its pivot, {float(c.angle):.1f} deg from the link's line")
+    out.append("  merged into the links:")
+    for k in ("W2", "ZI2", "RG2", "ADEL2", "W4", "ZI4", "RG4", "ADEL4"):
+        out.append(f"    {k:5} {float(getattr(before, k)):11.5g} -> "
+                   f"{float(getattr(after, k)):11.5g} {unit(k, system)}")
+    out.append("")
+    out.append("Before and after, over one revolution (modern engine)")
+    out.append(f"  {'':24} {'before':>11} {'after':>11}")
+    for label, u, b, a in compare(before, after, **scene):
+        out.append(f"  {label:24} {_num(b, b)} {_num(a, b)} {u}")
+    return out
