@@ -246,6 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")
     p.add_argument("--branch", choices=("open", "crossed"), default="open",
                    help="with --linkage: the assembly drawn (open: the 1966 program's)")
+    p.add_argument("--bearings", action="store_true",
+                   help="the load on each member at each pin, relative to the member, with "
+                        "the arcs never loaded shaded (bearings.png)")
     p.add_argument("--animate", action="store_true",
                    help="also write linkage.gif, one cycle (matplotlib's Pillow writer)")
 

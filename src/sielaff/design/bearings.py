@@ -16,7 +16,8 @@ The load on each member is the force the pin puts on it (docs/conventions.md):
 
 An arc never loaded is a range of directions, fixed in the member, that the load never
 points along: between two positions of the sampled cycle the load is taken to sweep the
-shorter way round (``n`` is large enough for that).  A load reversal is a change of sign
+shorter way round (``n`` is large enough for that), unless it turns by more than
+:data:`JUMP`: then the load has passed through zero and swept nothing.  A load reversal is a change of sign
 of the load's component along the member's line (tension to compression of that member at
 that pin), counted around the closed cycle.  Positions where the load is zero to
 roundoff (below 1E-12 of the peak) point nowhere and load no arc.
@@ -45,6 +46,9 @@ PINS = {
 #: member -> the output giving its line's angle (None: the frame, along +x)
 LINE = {"frame": None, "crank": "ATH2", "coupler": "ATH3", "rocker": "ATH4"}
 SAMPLES = 3600
+#: Between neighbouring samples a direction that turns more than this (degrees) has
+#: passed through zero load (a reversal), sweeping none of the angles between.
+JUMP = 30.0
 #: Neighbouring swept intervals closer than this (degrees) touch: roundoff of the mod.
 TOUCH = 1e-9
 #: Loads below this fraction of the pin's peak point nowhere.
@@ -80,11 +84,13 @@ class Pin:
 
 def unloaded_arcs(direction: np.ndarray) -> list[tuple[float, float]]:
     """The arcs (from, to), degrees CCW, that a direction sampled round a closed cycle
-    never sweeps (the shorter way between neighbours; NaN samples break the sweep)."""
+    never sweeps (the shorter way between neighbours; NaN samples and jumps past
+    :data:`JUMP` break the sweep)."""
     d = np.asarray(direction, dtype=float)
     a, b = d, np.roll(d, -1)
-    ok = np.isfinite(a) & np.isfinite(b)
     step = (b - a + 180.0) % 360.0 - 180.0
+    # a jump past JUMP is the load passing through (near) zero, not sweeping round
+    ok = np.isfinite(a) & np.isfinite(b) & (np.abs(step) <= JUMP)
     lo = np.where(step >= 0, a, a + step)[ok] % 360.0
     width = np.abs(step)[ok]
     isolated = np.isfinite(d) & ~(ok | np.roll(ok, 1))

@@ -525,7 +525,14 @@ def cmd_plot(args) -> int:
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
     deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate)
-    if args.linkage or args.animate:
+    if args.bearings:
+        from sielaff.tools.plot.bearings import write_bearings
+
+        try:
+            paths = write_bearings(deck, args.output, scene)
+        except ValueError as exc:
+            raise CommandError(f"{args.deck}: {exc}") from None
+    elif args.linkage or args.animate:
         from sielaff.tools.plot.linkage import write_linkage
 
         paths = write_linkage(deck, args.output, args.at, args.point, args.branch,

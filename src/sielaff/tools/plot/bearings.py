@@ -1,0 +1,55 @@
+"""``sielaff plot DECK --bearings``: bearings.png, the load on each member at each pin,
+relative to the member (the report's Fig. 14 for every pin), with the arcs never loaded
+shaded (oil-groove candidates; :mod:`sielaff.design.bearings`)."""
+
+from __future__ import annotations
+
+import io
+import os
+
+import numpy as np
+
+from sielaff.emulator.cards import Deck
+from sielaff.tools.plot.render import _pyplot, _subtitle, write_files
+
+
+def bearings_figure(deck: Deck, scene: dict):
+    """The figure (2 rows of 4 polar axes: each pin's two members) and the pins."""
+    from sielaff.design.bearings import bearings
+    from sielaff.quantities import unit
+
+    plt = _pyplot()
+    pins = bearings(deck.mechanism, n=720, **scene)
+    force = unit("FA32", deck.mechanism.units)
+    fig, axes = plt.subplots(2, 4, subplot_kw={"projection": "polar"}, figsize=(13, 8.4),
+                             dpi=110)
+    for col, pin in enumerate(pins.values()):
+        for row, member in enumerate(pin.members):
+            ax = axes[row, col]
+            d = np.radians(member.direction)
+            ax.plot(d, pin.load, lw=1.2, color="C0")
+            top = pin.peak * 1.05
+            for a, b in member.unloaded:
+                w = np.radians((b - a) % 360.0)
+                ax.bar(np.radians(a) + w / 2, top, width=w, color="C2", alpha=0.2,
+                       edgecolor="none")
+            ax.set_ylim(0, top)
+            ax.set_yticks([pin.peak / 2, pin.peak])
+            ax.set_yticklabels([f"{pin.peak / 2:.0f}", f"{pin.peak:.0f} {force}"], fontsize=7)
+            ax.set_xticks(np.radians([0, 90, 180, 270]))
+            ax.set_xticklabels(["0", "90", "180", "270"], fontsize=7)
+            ax.set_title(f"pin {pin.name}: load on the {member.name}", fontsize=9, pad=12)
+    fig.suptitle("Bearing loads relative to each member (deg from its line; shaded: never "
+                 f"loaded)\n{_subtitle(deck, scene)}", fontsize=10)
+    fig.tight_layout(h_pad=3.0)
+    return fig, pins
+
+
+def write_bearings(deck: Deck, folder: str, scene: dict) -> list[str]:
+    fig, _ = bearings_figure(deck, scene)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    _pyplot().close(fig)
+    path = os.path.join(folder, "bearings.png")
+    write_files({path: buf.getvalue()})
+    return [path]
