@@ -2,8 +2,10 @@
 
     python docs/make_images.py
 
-Writes docs/img/fig12-driving-torque.png (the README's Fig. 12) and
-docs/img/fig9-linkage.png (the report's Figure 9, the example's linkage, redrawn).
+Writes docs/img/fig12-driving-torque.png (the README's Fig. 12),
+docs/img/fig9-linkage.png (the report's Figure 9, the example's linkage, redrawn),
+docs/img/bearings.png and docs/img/sweep-pareto.png (docs/design.md: the example's
+bearings, and the sweep of decks/sweep.toml).
 """
 
 from __future__ import annotations
@@ -29,6 +31,16 @@ def main() -> None:
     (png,) = write_linkage(deck, folder, at=(40.0,))
     target = os.path.join(folder, "fig9-linkage.png")
     os.replace(png, target)
+    print(target)
+    from sielaff.tools.plot.bearings import write_bearings
+
+    print(*write_bearings(deck, folder, {}))
+    import subprocess
+    import sys
+
+    target = os.path.join(folder, "sweep-pareto.png")
+    subprocess.run([sys.executable, "-m", "sielaff", "sweep", "decks/sweep.toml", "-o",
+                    os.devnull, "--plot", target], cwd=ROOT, check=True)
     print(target)
 
 

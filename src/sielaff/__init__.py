@@ -13,6 +13,8 @@ The public API, in one place (everything else is reached through its module):
   its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
 * ``reachable(mechanism, n)``, ``point_motion(mechanism, ath2, link, r, angle)``: crank
   angles a linkage can reach; the path, velocity and acceleration of any point.
+* ``flywheel(mechanism, cf)``, ``balance(mechanism)``, ``bearings(mechanism)``: design
+  answers (``sielaff.design``, docs/design.md).
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -23,8 +25,8 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
-           "__version__", "analyze", "linkage_class", "point_motion", "reachable",
-           "read_deck"]
+           "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
+           "point_motion", "reachable", "read_deck"]
 
 
 def __getattr__(name: str):
@@ -34,4 +36,8 @@ def __getattr__(name: str):
         from sielaff import engine
 
         return getattr(engine, name)
+    if name in ("flywheel", "balance", "bearings"):
+        from sielaff import design
+
+        return getattr(design, name)
     raise AttributeError(f"module 'sielaff' has no attribute {name!r}")

@@ -91,11 +91,12 @@ def _blocks(size: int, size_of_block: int) -> list[tuple[int, int]]:
 
 def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: dict | None = None,
                 backend: str = "process", client: Any = None, size_of_block: int = BLOCK,
-                batch: int = 64) -> Iterator[np.ndarray]:
+                batch: int = 64, workers: int | None = None) -> Iterator[np.ndarray]:
     """Yield 2-D arrays (designs x :func:`columns`) in design order.
 
     ``backend``: ``"process"`` (this process, one block after another) or ``"dask"``
-    (``client``: a dask.distributed Client, or None for dask's local threads).  Dask runs
+    (``client``: a dask.distributed Client, or None for dask's local threads, ``workers``
+    of them: default one per core).  Dask runs
     ``batch`` blocks at a time, so results stream out at flat memory.
     """
     scene = dict(scene or {})
@@ -123,4 +124,4 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: dict | None =
         if client is not None:
             yield client.compute(arr).result()
         else:
-            yield arr.compute(scheduler="threads")
+            yield arr.compute(scheduler="threads", num_workers=workers)

@@ -407,7 +407,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
 
     table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
     if not table:
-        raise PunchError(f"{path}: no [sweep] table (sielaff help sweep shows one)")
+        raise PunchError(f"{path}: no [sweep] table (decks/sweep.toml has one; docs/design.md)")
     _unknown(f"{path}: [sweep]", table, SWEEP_KEYS)
     angles = table.get("angles", 360)
     if not (isinstance(angles, int) and not isinstance(angles, bool) and 8 <= angles

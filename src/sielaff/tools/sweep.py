@@ -7,8 +7,8 @@ then the figures, the header naming each with its unit (``TORQ_PEAK[in-lb]``); `
 is written as its name.  Blocks of designs are computed and written one after another,
 so memory stays flat; the CSV (and the Pareto plot) are written whole or not at all.
 
-Where it runs: ``--workers 1`` in this process; otherwise through dask when it is
-installed (``pip install -e ".[sweep]"``): local threads on all cores by default, or
+Where it runs: ``--workers 1``, or a small sweep (:data:`SMALL` designs), in this
+process; otherwise through dask when it is installed (``pip install -e ".[sweep]"``): local threads on all cores by default, or
 the dask.distributed cluster at ``--scheduler``.  The results do not depend on where
 they ran (the same blocks, the same function).
 """
@@ -17,6 +17,10 @@ from __future__ import annotations
 
 import os
 import sys
+
+
+#: A sweep of at most this many designs runs in process unless --workers says otherwise.
+SMALL = 1024
 
 
 def _rows(block, names: list[str]):
@@ -82,6 +86,8 @@ def cmd_sweep(args) -> int:
     grid = Grid(m, sweep["axes"])
     backend, client = "process", None
     workers = args.workers or os.cpu_count() or 1
+    if args.workers is None and grid.size <= SMALL and not args.scheduler:
+        workers = 1  # a small sweep: starting dask would cost more than it saves
     if args.scheduler or workers > 1:
         try:
             import dask  # noqa: F401
@@ -111,7 +117,7 @@ def cmd_sweep(args) -> int:
             try:
                 out.write(header + "\n")
                 for block in iter_blocks(grid, sweep["angles"], sweep["cf"], scene, backend,
-                                         client):
+                                         client, workers=workers):
                     out.write("\n".join(_rows(block, names)) + "\n")
                     xs.append(block[:, px])
                     ys.append(block[:, py])
