@@ -17,10 +17,11 @@ The load on each member is the force the pin puts on it (docs/conventions.md):
 An arc never loaded is a range of directions, fixed in the member, that the load never
 points along: between two positions of the sampled cycle the load is taken to sweep the
 shorter way round (``n`` is large enough for that), unless it turns by more than
-:data:`JUMP`: then the load has passed through zero and swept nothing.  A load reversal is a change of sign
-of the load's component along the member's line (tension to compression of that member at
-that pin), counted around the closed cycle.  Positions where the load is zero to
-roundoff (below 1E-12 of the peak) point nowhere and load no arc.
+:data:`JUMP`: then the load has passed through zero and swept nothing. A load reversal
+is a change of sign of the load's component along the member's line (tension to
+compression of that member at that pin), counted around the closed cycle. Positions
+where the load is zero to roundoff (below 1E-12 of the peak) point nowhere and load no
+arc.
 """
 
 from __future__ import annotations

@@ -8,16 +8,16 @@ is written as its name.  Blocks of designs are computed and written one after an
 so memory stays flat; the CSV (and the Pareto plot) are written whole or not at all.
 
 Where it runs: ``--workers 1``, or a small sweep (:data:`SMALL` designs), in this
-process; otherwise through dask when it is installed (``pip install -e ".[sweep]"``): local threads on all cores by default, or
-the dask.distributed cluster at ``--scheduler``.  The results do not depend on where
-they ran (the same blocks, the same function).
+process; otherwise through dask when it is installed (``pip install -e ".[sweep]"``):
+local threads on all cores by default, or the dask.distributed cluster at
+``--scheduler``. The results do not depend on where they ran (the same blocks, the same
+function).
 """
 
 from __future__ import annotations
 
 import os
 import sys
-
 
 #: A sweep of at most this many designs runs in process unless --workers says otherwise.
 SMALL = 1024
