@@ -188,7 +188,7 @@ class Program:
 
     # ------------------------------------------------------------------
     def MAIN(self, deck, write: Write, kinematics_only: bool = False,
-             max_sheets: int | None = None, tex: float = 0.0) -> int:
+             max_sheets: int | None = None, tex: float = 0.0, start: int = 1) -> int:
         """Run the program on a deck; returns the number of sheets printed.
 
         ``kinematics_only`` does what page 18 of the report says: removes
@@ -196,8 +196,10 @@ class Program:
         raises SheetLimit before a sheet past that count (not in the 1966
         program).  ``tex`` is the report's edit of statement 74, ``TEX = constant``
         ("In other uses this could be TEX = CONSTANT"), converted like a FORTRAN
-        constant in the run's arithmetic.  Raises NotCrankRocker after printing the
-        1966 message.
+        constant in the run's arithmetic.  ``start`` (not in the 1966 program either)
+        begins each range card's loop at I = start instead of 1: the vectorised listing
+        (``emulator.vector``) hands single sheets back to the port this way.  Raises
+        NotCrankRocker after printing the 1966 message.
         """
         ar, notice = self.ar, self.notice
         num, SIN, COS, SQRT, ABS = ar.num, ar.SIN, ar.COS, ar.SQRT, ar.ABS
@@ -217,7 +219,7 @@ class Program:
             ZM3 = W3 / G
             ZM4 = W4 / G
             TH = THZERO - DELTA
-            I = 0
+            I = start - 1
             RAD = 57.295779
             PI = 3.14159265
             SQ2D = TH2D * TH2D

@@ -162,9 +162,14 @@ def _numpy_quiet(ar):
 def run(deck, out: TextIO, arithmetic: str = "float64",
         notice: Callable[[str, str], None] | None = None,
         kinematics_only: bool = False, max_sheets: int | None = None,
-        progress: Callable[[int], None] | None = None, tex: float = 0.0) -> int:
+        progress: Callable[[int], None] | None = None, tex: float = 0.0,
+        vectorised: bool = True) -> int:
     """Print the listing of ``deck`` on ``out`` (one ASA record per line); ``tex`` is the
     report's edit of statement 74 (``TEX = constant``, in-lb).
+
+    In float64 the sheets are computed many at a time (``emulator.vector``: the same
+    bytes, the port's arithmetic redone on arrays) unless ``vectorised`` is False; the
+    port prints the sheets that raise notices or errors, and every other arithmetic.
 
     Returns the number of sheets.  Raises ``program.NotCrankRocker`` (after
     the 1966 message is printed), ``program.SheetLimit`` and ``ProgramError``.
@@ -173,6 +178,12 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     ``progress(n)``, if given, is called after each sheet with the sheets so far.
     """
     notice = notice or (lambda kind, text: None)
+    if arithmetic == "float64" and vectorised:
+        from sielaff.emulator import vector
+
+        if vector.applies(deck):
+            return vector.vector_run(deck, out.write, notice, _SheetWriter, kinematics_only,
+                                     max_sheets, progress, tex)
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
     emit = out.write if progress is None else _counting(out.write, progress)
     writer = _SheetWriter(emit, kinematics_only)

@@ -1,0 +1,508 @@
+"""The float64 listing, many sheets at a time: the port's arithmetic redone in numpy.
+
+In:  a deck, the listing's options (kinematics only, ``tex``, ``max_sheets``).
+Out: the same bytes as the line-by-line port (``program.Program`` on ``Float64``) and
+     the printer, sheet for sheet, with the same notices and the same errors.
+
+How the bytes stay the same:
+
+* **The arithmetic.**  Every quantity is computed from the listing's own expressions,
+  in the same order of operations, on float64 arrays.  ``+ - * /`` are IEEE operations,
+  exact to the same bit in numpy and in Python.  Hence the values are the port's,
+  provided numpy's ``sin``, ``cos`` and ``sqrt`` return libm's results.  sqrt is exact
+  everywhere, and :func:`numpy_matches_libm` checks sin and cos at first use (if they
+  differ, ``sielaff run`` uses the port alone).
+* **ATAN.**  numpy's ``arctan`` may differ from libm's in the last bit.  It only feeds
+  the printed directions (VECTOR's DIRECT), so it matters only for a direction that
+  lies near a printed-digit boundary.  Such a field is printed from the port's own
+  VECTOR, which gives the exact value.
+* **ARCCOS.**  The series runs on arrays, each element stopping at its own term, by
+  the listing's test.
+* **Printing.**  A field prints in bulk only where the printer's first tier would
+  print it.  That is where its digits follow by arithmetic, away from a digit
+  boundary; the tier's test is repeated here on the same numbers.  Every other field
+  goes through the printer's own editor.
+* **Sheets the port must print itself.**  These are the sheets that raise a notice or
+  an error:
+  * Case I or Case II outside one revolution;
+  * the trailing sheet past THMAX;
+  * an exactly zero cosine (TAN3 or TAN4);
+  * a non-finite value, or one past the 1410's range;
+  * a zero divisor;
+  * SQRT of a negative number in ARCCOS.
+
+  They are handed back to the port one at a time (``MAIN(..., start=I)``), in order.
+  So the notices, their limits and the error messages are the port's.
+
+Sheets are computed :data:`CHUNK` at a time and written chunk by chunk, so memory stays
+flat.  tests/test_vector.py compares the bytes with the port's on hypothesis-drawn decks
+and on the 36,001-sheet deck of benchmarks/listing.py.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from sielaff.emulator.arithmetic.base import Float64
+from sielaff.emulator.printer import _EXPONENT_TEXT, compile_format, edit_e, fast_editor
+from sielaff.emulator.program import (
+    FORMATS,
+    KINEMATIC_FIELDS,
+    SHEET_FIELDS,
+    Program,
+    SheetLimit,
+)
+from sielaff.emulator.ranges import sheet_count
+
+__all__ = ["CHUNK", "applies", "numpy_matches_libm", "vector_run"]
+
+#: Sheets computed and written at a time.
+CHUNK = 2048
+
+#: The WRITEs of one sheet: (FORMAT, index into SHEET_FIELDS or None).
+SHEET_WRITES = ((7, None), (10, None), (1, 0), (11, None), (2, 1), (12, None), (5, 2),
+                (13, None), (9, 3), (8, 4), (14, None), (9, 5), (8, 6),
+                (15, None), (2, 7), (3, 8), (16, None), (6, 9), (4, 10), (17, None), (5, 11),
+                (18, None))
+FORCE_WRITES = frozenset(range(13, 21))  # positions in SHEET_WRITES of statements 133-202
+
+
+def _layout(kinematics_only: bool) -> tuple[str, list[tuple[int, str, int, int]]]:
+    """The sheet's text with blanks for the numbers, and each number's (offset, kind,
+    width, decimals), in the order of the listing's values."""
+    text: list[str] = []
+    fields: list[tuple[int, str, int, int]] = []
+    pos = 0
+    for k, (fmt, _group) in enumerate(SHEET_WRITES):
+        if kinematics_only and k in FORCE_WRITES:
+            continue
+        record: list[str] = []
+        for item in compile_format(FORMATS[fmt]) + [("/",)]:
+            if item[0] == "lit":
+                record.append(item[1])
+            elif item[0] == "edit":
+                offset = pos + sum(len(r) for r in record)
+                kind = "E" if item[1] is edit_e else "F"
+                fields.append((offset, kind, item[2], item[3]))
+                record.append(" " * item[2])
+            else:
+                line = "".join(record) or " "
+                text.append(line + "\n")
+                pos += len(line) + 1
+                record = []
+    return "".join(text), fields
+
+
+_LIBM_CHECKED: bool | None = None
+
+
+def numpy_matches_libm() -> bool:
+    """Whether numpy's sin and cos give libm's results on this machine (checked once,
+    on 20,000 arguments spread over the range the program meets)."""
+    global _LIBM_CHECKED
+    if _LIBM_CHECKED is None:
+        x = np.random.default_rng(1966).uniform(-20.0, 20.0, 20_000)
+        x[:4] = (0.0, -0.0, math.pi / 2, 3.14159265 / 2)
+        xs = x.tolist()
+        _LIBM_CHECKED = (np.sin(x).tolist() == [math.sin(v) for v in xs]
+                         and np.cos(x).tolist() == [math.cos(v) for v in xs]
+                         and np.sqrt(np.abs(x)).tolist() == [math.sqrt(abs(v)) for v in xs])
+    return _LIBM_CHECKED
+
+
+def applies(deck) -> bool:
+    """Whether this path can print ``deck``: numpy agrees with libm, the lengths pass the
+    crank-rocker test in float64 (else the port prints the refusal), and every range
+    card ends (a never-ending one is the port's, under ``--max-sheets``)."""
+    from sielaff.emulator.program import first_failed_test
+
+    m = deck.mechanism
+    R1, R2, R3, R4 = (float(x) for x in (m.R1, m.R2, m.R3, m.R4))
+    if first_failed_test(R3 / R2, R4 / R2, R1 / R2, abs) is not None:
+        return False
+    if not numpy_matches_libm():
+        return False
+    return all(sheet_count(*(float(x) for x in r)) is not None for r in deck.ranges)
+
+
+# -- the arithmetic ----------------------------------------------------------
+
+ARCCOS_TERMS = 200  # past this an element is left to the port (its limit is 10,000)
+
+
+def _arccos(X: np.ndarray, bad: np.ndarray) -> np.ndarray:
+    """FUNCTION ARCCOS on an array, element by element as the listing; ``bad`` marks the
+    elements the port must do (SQRT of a negative, no convergence)."""
+    PI = 3.14159265358979323846
+    XX = X
+    X2 = XX * XX
+    big = ~(np.abs(XX) <= 0.7)
+    one = 1.0 - X2
+    bad |= big & ~(one >= 0.0)
+    XX = np.where(big, np.sqrt(np.where(one >= 0.0, one, 0.0)), XX)
+    X2 = np.where(big, XX * XX, X2)
+    SUM = (PI / 2.0) - XX
+    VAL = XX
+    SAVE = np.full_like(X, 0.1E-50)
+    A, PROD, ZMULT = 0.0, 1.0, 1.0
+    active = np.ones(X.shape, dtype=bool)
+    for _ in range(ARCCOS_TERMS):
+        A = A + 2.0
+        PROD = PROD * A
+        ZMULT = ZMULT * (A - 1.0)
+        VAL = VAL * X2
+        new = SUM - (ZMULT * VAL) / (PROD * (A + 1.0))
+        SUM = np.where(active, new, SUM)
+        done = active & (np.abs(SUM - SAVE) < 0.00000001)
+        active &= ~done
+        SAVE = np.where(active, SUM, SAVE)
+        if not active.any():
+            break
+    bad |= active
+    return np.where(X < -0.70, (PI / 2.0) + SUM, np.where(X > 0.70, (PI / 2.0) - SUM, SUM))
+
+
+def _vector(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """SUBROUTINE VECTOR on arrays (ATAN from numpy: see the module doc)."""
+    PI = 3.14159265
+    RAD = 57.2957795
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ARC = np.arctan(np.abs(Y) / np.abs(X))
+    ANG = np.where(X == 0.0,
+                   np.where(Y < 0.0, (3.0 * PI) / 2.0, np.where(Y > 0.0, PI / 2.0, 0.0)),
+                   np.where(X > 0.0, np.where(Y < 0.0, 2.0 * PI - ARC, ARC),
+                            np.where(Y < 0.0, PI + ARC, PI - ARC)))
+    return np.sqrt(X * X + Y * Y), ANG * RAD
+
+
+def _sheets(m, ATH2: np.ndarray, tex: float, kinematics_only: bool):
+    """The printed values (dict by listing name), the VECTOR inputs of each direction,
+    and the sheets the port must print itself."""
+    W2, W3, W4 = m.W2, m.W3, m.W4
+    ZI3, ZI4 = m.ZI3, m.ZI4
+    R1, R2, R3, R4 = m.R1, m.R2, m.R3, m.R4
+    RG2, RG3, RG4 = m.RG2, m.RG3, m.RG4
+    TH2D = m.TH2D
+    G = 386.0880
+    ZM2, ZM3, ZM4 = W2 / G, W3 / G, W4 / G
+    RAD = 57.295779
+    PI = 3.14159265
+    SQ2D = TH2D * TH2D
+    DEL2, DEL3, DEL4 = m.ADEL2 / RAD, m.ADEL3 / RAD, m.ADEL4 / RAD
+    bad = np.zeros(ATH2.shape, dtype=bool)
+    SIN, COS, SQRT = np.sin, np.cos, np.sqrt
+    TH2 = ATH2 / RAD
+    CTH2 = COS(TH2)
+    ZL = SQRT(R2 * R2 + R1 * R1 - 2.0 * R2 * R1 * CTH2)
+    bad |= ZL == 0.0
+    with np.errstate(all="ignore"):
+        PSI = _arccos((-(R4 * R4) + ZL * ZL + R3 * R3) / (2.0 * ZL * R3), bad)
+        ZLAM = _arccos((ZL * ZL + R4 * R4 - R3 * R3) / (2.0 * ZL * R4), bad)
+        BETA = _arccos((ZL * ZL + R1 * R1 - R2 * R2) / (2.0 * ZL * R1), bad)
+        case2 = TH2 >= PI
+        TH3 = np.where(case2, PSI + BETA, PSI - BETA)
+        TH4 = np.where(case2, PI - ZLAM + BETA, PI - ZLAM - BETA)
+        bad |= (case2 & (ATH2 > 360.0)) | (~case2 & (ATH2 < 0.0))  # the Case I/II notices
+        ATH3 = TH3 * RAD
+        ATH4 = TH4 * RAD
+        TEX = np.full(ATH2.shape, float(tex))
+        S42 = SIN(TH4 - TH2)
+        S34 = SIN(TH3 - TH4)
+        S32 = SIN(TH3 - TH2)
+        C42 = COS(TH4 - TH2)
+        C43 = COS(TH4 - TH3)
+        S43 = SIN(TH4 - TH3)
+        C32 = COS(TH3 - TH2)
+        C34 = COS(TH3 - TH4)
+        STHDE2, CTHDE2 = SIN(TH2 + DEL2), COS(TH2 + DEL2)
+        STHDE3, CTHDE3 = SIN(TH3 + DEL3), COS(TH3 + DEL3)
+        STHDE4, CTHDE4 = SIN(TH4 + DEL4), COS(TH4 + DEL4)
+        STH4, CTH4 = SIN(TH4), COS(TH4)
+        STH3, CTH3 = SIN(TH3), COS(TH3)
+        STH2, CTH2 = SIN(TH2), COS(TH2)
+        bad |= (S34 == 0.0) | (S43 == 0.0)
+        TH3D = (R2 / R3) * TH2D * (S42 / S34)
+        TH4D = (R2 / R4) * TH2D * (S32 / S34)
+        SQ3D = TH3D * TH3D
+        SQ4D = TH4D * TH4D
+        TH3DD = (R2 * SQ2D * C42 + R3 * SQ3D * C43 - R4 * SQ4D) / (R3 * S43)
+        TH4DD = (-R2 * SQ2D * C32 + R4 * SQ4D * C34 - R3 * SQ3D) / (R4 * S34)
+        R2X = R2 * CTH2
+        R2Y = R2 * STH2
+        R3X = R3 * CTH3
+        R3Y = R3 * STH3
+        RG3X = RG3 * CTHDE3
+        RG3Y = RG3 * STHDE3
+        R4X = R4 * CTH4
+        R4Y = R4 * STH4
+        RG4X = RG4 * CTHDE4
+        RG4Y = RG4 * STHDE4
+        VAX = -R2 * TH2D * STH2
+        VAY = R2 * TH2D * CTH2
+        AAX = -R2 * SQ2D * CTH2
+        AAY = -R2 * SQ2D * STH2
+        VG2X = -RG2 * TH2D * STHDE2
+        VG2Y = RG2 * TH2D * CTHDE2
+        AG2X = -RG2 * SQ2D * CTHDE2
+        AG2Y = -RG2 * SQ2D * STHDE2
+        VBX = -R4 * TH4D * STH4
+        VBY = R4 * TH4D * CTH4
+        ABX = -R4 * SQ4D * CTH4 - R4 * TH4DD * STH4
+        ABY = -R4 * SQ4D * STH4 + R4 * TH4DD * CTH4
+        VG4X = -RG4 * TH4D * STHDE4
+        VG4Y = RG4 * TH4D * CTHDE4
+        AG4X = -RG4 * SQ4D * CTHDE4 - RG4 * TH4DD * STHDE4
+        AG4Y = -RG4 * SQ4D * STHDE4 + RG4 * TH4DD * CTHDE4
+        VG3X = VAX - RG3 * TH3D * STHDE3
+        VG3Y = VAY + RG3 * TH3D * CTHDE3
+        AG3X = AAX - RG3 * SQ3D * CTHDE3 - RG3 * TH3DD * STHDE3
+        AG3Y = AAY - RG3 * SQ3D * STHDE3 + RG3 * TH3DD * CTHDE3
+        v = {"ATH2": ATH2, "ATH3": ATH3, "ATH4": ATH4, "TH3D": TH3D, "TH4D": TH4D,
+             "TH3DD": TH3DD, "TH4DD": TH4DD, "TEX": TEX}
+        xy = {"VG2": (VG2X, VG2Y), "VA": (VAX, VAY), "VG3": (VG3X, VG3Y), "VB": (VBX, VBY),
+              "VG4": (VG4X, VG4Y), "AG2": (AG2X, AG2Y), "AA": (AAX, AAY),
+              "AG3": (AG3X, AG3Y), "AB": (ABX, ABY), "AG4": (AG4X, AG4Y)}
+        if not kinematics_only:
+            FG4X = -ZM4 * AG4X
+            FG4Y = -ZM4 * AG4Y
+            TI4 = -ZI4 * TH4DD
+            bad |= (CTH3 == 0.0) | (CTH4 == 0.0)  # TAN3, TAN4 = 0.9E+25: the port notices
+            TAN3 = STH3 / CTH3
+            D3 = R4X * TAN3 - R4Y
+            FP34X = (-RG4X * FG4Y + RG4Y * FG4X - TI4 - TEX) / D3
+            FP34Y = FP34X * TAN3
+            FP14X = -FG4X - FP34X
+            FP41X = -FP14X
+            FP14Y = -FG4Y - FP34Y
+            FP41Y = -FP14Y
+            FP32X = -FP34X
+            FP32Y = -FP34Y
+            FP21Y = -FP34Y
+            FP21X = -FP34X
+            TP2 = -R2X * FP32Y + R2Y * FP32X
+            TI3 = -ZI3 * TH3DD
+            FG3X = -ZM3 * AG3X
+            FG3Y = -ZM3 * AG3Y
+            TAN4 = STH4 / CTH4
+            D4 = R3X * TAN4 - R3Y
+            FPP43X = (-RG3X * FG3Y + RG3Y * FG3X - TI3) / D4
+            FPP34X = -FPP43X
+            FPP43Y = FPP43X * TAN4
+            FPP34Y = -FPP43Y
+            FPP23X = -FPP43X - FG3X
+            FPP32X = -FPP23X
+            FPP23Y = -FPP43Y - FG3Y
+            FPP32Y = -FPP23Y
+            FPP41X = -FPP43X
+            FPP41Y = -FPP43Y
+            FPP21X = -FPP23X
+            FPP21Y = -FPP23Y
+            TPP2 = -R2X * FPP32Y + R2Y * FPP32X
+            FG2X = -ZM2 * AG2X
+            FG2Y = -ZM2 * AG2Y
+            F3P21X = FG2X  # F3P12X = -FG2X, F3P21X = -F3P12X: negation is exact
+            F3P21Y = FG2Y
+            bad |= (D3 == 0.0) | (D4 == 0.0)
+            v["TORQ"] = TP2 + TPP2
+            FOAX = FP21X + FPP21X + F3P21X
+            FOAY = FP21Y + FPP21Y + F3P21Y
+            FOBX = FP41X + FPP41X
+            FOBY = FP41Y + FPP41Y
+            v["SHAKX"] = FOAX + FOBX
+            v["SHAKY"] = FOAY + FOBY
+            xy.update({"FA32": (FP32X + FPP32X, FP32Y + FPP32Y),
+                       "FB34": (FP34X + FPP34X, FP34Y + FPP34Y),
+                       "FOA": (FOAX, FOAY), "FOB": (FOBX, FOBY),
+                       "SHAK": (v["SHAKX"], v["SHAKY"])})
+        for name, (X, Y) in xy.items():
+            v[name], v["D" + name] = _vector(X, Y)
+        for name in ("TH3", "TH4", "TH3D", "TH4D", "TH3DD", "TH4DD"):
+            bad |= ~np.isfinite(locals()[name])
+    return v, xy, bad
+
+
+# -- printing ----------------------------------------------------------------
+
+_E_SCALES = np.array([10.0 ** (4 - (k - 99)) for k in range(199)])
+_E_EXPONENT = np.array([t.encode() for t in _EXPONENT_TEXT], dtype="S4").view(np.uint8)
+_E_EXPONENT = _E_EXPONENT.reshape(199, 4)
+_DIGITS = np.frombuffer(b"0123456789", dtype=np.uint8)
+#: "0000" ... "9999" as bytes: four digits in one lookup.
+_FOUR = np.frombuffer("".join(f"{i:04d}" for i in range(10000)).encode(), dtype=np.uint8)
+_FOUR = _FOUR.reshape(10000, 4)
+
+
+def _edit_e(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """E12.4 by the printer's first tier: (bytes (n, w), where it applies)."""
+    a = np.abs(x)
+    ok = (a >= 1e-99) & (a < 1e98)
+    with np.errstate(all="ignore"):
+        k = np.where(ok, np.floor(np.log10(np.where(ok, a, 1.0))), 0).astype(np.int64) + 100
+    k = np.clip(k, 0, 198)
+    scaled = a * _E_SCALES[k]
+    t = np.where(ok, scaled, 0.0).astype(np.int64)
+    frac = scaled - t
+    ok &= (t >= 1000) & (t <= 9999) & (frac > 1e-7) & (frac < 0.9999999)
+    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
+    out[:, w - 10] = np.where(x < 0.0, ord("-"), ord(" "))
+    out[:, w - 9] = ord(".")
+    out[:, w - 8:w - 4] = _FOUR[np.where(ok, t, 0)]
+    out[:, w - 4:] = _E_EXPONENT[k]
+    zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
+    out[zero, w - 10] = ord(" ")
+    out[zero, w - 8:w - 4] = ord("0")
+    out[zero, w - 4:] = _E_EXPONENT[0]
+    return out, ok | zero
+
+
+def _edit_f(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """F12.1 by the printer's first tier: (bytes (n, w), where it applies)."""
+    a = np.abs(x)
+    ok = (a > 0.0) & (a < 1e7)
+    scaled = np.where(ok, a, 0.0) * 10.0
+    t = scaled.astype(np.int64)
+    frac = scaled - t
+    ok &= (frac > 1e-6) & (frac < 0.999999)
+    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
+    out[:, w - 1] = _DIGITS[t % 10]
+    out[:, w - 2] = ord(".")
+    q = t // 10  # below 1E6: at most 6 digits before the point, no leading zero
+    out[:, w - 9:w - 5] = _FOUR[q // 10000 % 10000]
+    out[:, w - 5:w - 2] = _FOUR[q % 10000][:, 1:]
+    width = np.zeros(x.size, dtype=np.int64)
+    for j in range(7):
+        width += q >= 10 ** j
+    blank = np.arange(w - 9, w - 2)[None, :] < (w - 2 - width)[:, None]
+    out[:, w - 9:w - 2] = np.where(blank, np.uint8(32), out[:, w - 9:w - 2])
+    minus = np.flatnonzero(x < 0.0)
+    out[minus, w - 3 - width[minus]] = ord("-")
+    return out, ok
+
+
+class _Listing:
+    """Sheets of one deck through the vectorised path, handing special ones back."""
+
+    def __init__(self, deck, emit: Callable[[str], None], notice, kinematics_only: bool,
+                 tex: float, writer_factory) -> None:
+        self.deck, self.emit, self.notice = deck, emit, notice
+        self.emit_bytes = lambda data: emit(data.decode("ascii"))
+        self.kinematics_only, self.tex = kinematics_only, tex
+        self.writer_factory = writer_factory
+        text, self.fields = _layout(kinematics_only)
+        self.template = np.frombuffer(text.encode("ascii"), dtype=np.uint8)
+        groups = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
+        self.names = [n for g in groups for n in g]
+        self.by_kind = {}  # kind -> (page columns, field offsets, names), all 12 wide
+        for kind in "EF":
+            picked = [(off, name) for (off, k, w, _d), name in zip(self.fields, self.names)
+                      if k == kind]
+            assert all(w == 12 for _o, _k, w, _d in self.fields)
+            offsets = [off for off, _ in picked]
+            columns = (np.array(offsets)[:, None] + np.arange(12)).ravel()
+            self.by_kind[kind] = (columns, offsets, [name for _, name in picked])
+        self.editors = {kind: fast_editor(kind, 12, 4 if kind == "E" else 1, True)
+                        for kind in "EF"}
+        self.port = Program(Float64(on_error=lambda text: notice("library", text)), notice)
+
+    def port_sheet(self, index: int, i: int) -> None:
+        """Sheet I = i of range card ``index`` by the port, written as it writes it."""
+        one = dataclasses.replace(self.deck, ranges=[self.deck.ranges[index]],
+                                  range_cards=[self.deck.range_cards[index]])
+        writer = self.writer_factory(self.emit, self.kinematics_only)
+        try:
+            self.port.MAIN(one, writer.write, self.kinematics_only, 1, self.tex, start=i)
+        except SheetLimit:
+            pass
+        writer.flush()
+
+    def _slow(self, page, rows, offset, kind, name, v, xy, bad) -> None:
+        """Fields the first tier does not print: the printer's own editor, once per
+        distinct value (a round 200.0 recurs on every sheet); a direction from the
+        port's VECTOR, since numpy's arctan may differ from libm's in the last bit."""
+        editor = self.editors[kind]
+        if name.startswith("D") and name[1:] in xy:
+            X, Y = xy[name[1:]]
+            values = np.array([self.port.VECTOR(x, y)[1] for x, y in
+                               zip(X[rows].tolist(), Y[rows].tolist())])
+        else:
+            values = v[name][rows]
+        zeros = values == 0.0  # -0.0 and 0.0 print apart but are one key to np.unique
+        each = rows[zeros].tolist()
+        if not zeros.all():
+            distinct, inverse = np.unique(values[~zeros], return_inverse=True)
+            texts = np.empty((distinct.size, 12), dtype=np.uint8)
+            fine = np.ones(distinct.size, dtype=bool)
+            for j, value in enumerate(distinct.tolist()):
+                try:
+                    texts[j] = np.frombuffer(editor(value).encode("ascii"), dtype=np.uint8)
+                except ValueError:  # Unprintable: the port raises the 1966 error
+                    fine[j] = False
+            keep = rows[~zeros]
+            page[keep, offset:offset + 12] = texts[inverse]
+            bad[keep[~fine[inverse]]] = True
+        for s, value in zip(each, values[zeros].tolist()):
+            page[s, offset:offset + 12] = np.frombuffer(editor(value).encode("ascii"),
+                                                        dtype=np.uint8)
+
+    def chunk(self, index: int, first: int, ATH2: np.ndarray, last: int) -> None:
+        """Sheets I = first .. first + len(ATH2) - 1 of range card ``index``."""
+        v, xy, bad = _sheets(self.deck.mechanism, ATH2, self.tex, self.kinematics_only)
+        n = ATH2.size
+        if first + n - 1 == last:
+            bad[-1] = True  # the trailing sheet: the port notices it
+        sheet_len = self.template.size
+        page = np.broadcast_to(self.template, (n, sheet_len)).copy()
+        for kind, (columns, offsets, names) in self.by_kind.items():
+            x = np.stack([v[name] for name in names], axis=1).ravel()
+            with np.errstate(all="ignore"):
+                text, ok = (_edit_e if kind == "E" else _edit_f)(x, 12)
+            page[:, columns] = text.reshape(n, -1)
+            ok = ok.reshape(n, len(names))
+            for j in np.flatnonzero(~ok.all(axis=0)):
+                rows = np.flatnonzero(~ok[:, j] & ~bad)
+                if rows.size:
+                    self._slow(page, rows, offsets[j], kind, names[j], v, xy, bad)
+        start = 0
+        for s in np.flatnonzero(bad):
+            if s > start:
+                self.emit_bytes(page[start:s].tobytes())
+            self.port_sheet(index, first + int(s))
+            start = s + 1
+        if start < n:
+            self.emit_bytes(page[start:].tobytes())
+
+
+def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
+               kinematics_only: bool = False, max_sheets: int | None = None,
+               progress: Callable[[int], None] | None = None, tex: float = 0.0) -> int:
+    """The listing of ``deck`` in float64 (see the module doc): sheets written through
+    ``emit``; ``writer_factory(emit, kinematics_only)`` makes the port's WRITE for the
+    sheets handed back.  The deck must pass the crank-rocker test and every range card
+    must end (the caller checks both).  Raises SheetLimit past ``max_sheets``."""
+    listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory)
+    if not float(tex) == float(tex) or abs(float(tex)) >= 1e99:
+        raise ValueError("tex must be finite (the caller checks it)")
+    total = 0
+    cards = len(deck.ranges)
+    for index in range(cards):
+        THZERO, DELTA, THMAX = (float(x) for x in deck.ranges[index])
+        count = sheet_count(THZERO, DELTA, THMAX)
+        TH = THZERO - DELTA
+        for first in range(1, count + 1, CHUNK):
+            stop = min(first + CHUNK, count + 1)
+            if max_sheets is not None:
+                if total >= max_sheets:
+                    raise SheetLimit(total)
+                stop = min(stop, first + (max_sheets - total))
+            ZZZ = np.arange(first, stop, dtype=np.float64)
+            listing.chunk(index, first, TH + ZZZ * DELTA, count)
+            total += stop - first
+            if progress is not None:
+                progress(total)
+        if max_sheets is not None and total >= max_sheets and index + 1 < cards:
+            raise SheetLimit(total)
+    return total
