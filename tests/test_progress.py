@@ -98,9 +98,14 @@ def test_run_progress_total():
 def test_emulator_reports_each_sheet(example_listing):
     counts: list[int] = []
     out = io.StringIO()
-    assert run(read_deck(DECKS / "example.dat"), out, progress=counts.append) == 37
+    deck = read_deck(DECKS / "example.dat")
+    assert run(deck, out, progress=counts.append, vectorised=False) == 37
     assert counts == list(range(1, 38))
     assert out.getvalue() == example_listing
+    # many sheets at a time: reported after each block, rising to the total
+    counts.clear()
+    assert run(deck, io.StringIO(), progress=counts.append) == 37
+    assert counts and counts[-1] == 37 and counts == sorted(set(counts))
 
 
 # --------------------------------------------------------------------------

@@ -188,6 +188,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="drop statements 133-202 and their WRITEs, as the report describes")
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: the same as --kinematics-only (as for table and plot)")
+    p.add_argument("--port", action="store_true",
+                   help="float64 only: print every sheet with the line-by-line port (the "
+                        "reference) instead of many sheets at a time; the same bytes, slower")
     p.add_argument("--max-sheets", type=sheet_count, metavar="N",
                    help="stop cleanly after N sheets (a warning says so)")
     p.add_argument("--tex", type=tex_value, default=0.0, metavar="IN-LB",

@@ -175,7 +175,8 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     the 1966 message is printed), ``program.SheetLimit`` and ``ProgramError``.
     The listing is written a sheet at a time (one ``out.write`` per sheet),
     so memory stays constant; a sheet that fails is not written.
-    ``progress(n)``, if given, is called after each sheet with the sheets so far.
+    ``progress(n)``, if given, is called with the sheets so far: after each sheet (the
+    port), or after each block of sheets (many at a time).
     """
     notice = notice or (lambda kind, text: None)
     if arithmetic == "float64" and vectorised:

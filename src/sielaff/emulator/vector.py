@@ -122,7 +122,10 @@ def applies(deck) -> bool:
 
     m = deck.mechanism
     R1, R2, R3, R4 = (float(x) for x in (m.R1, m.R2, m.R3, m.R4))
-    if first_failed_test(R3 / R2, R4 / R2, R1 / R2, abs) is not None:
+    try:
+        if first_failed_test(R3 / R2, R4 / R2, R1 / R2, abs) is not None:
+            return False
+    except ArithmeticError:  # R2 = 0: the port names the statement dividing by it
         return False
     if not numpy_matches_libm():
         return False

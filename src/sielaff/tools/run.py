@@ -34,7 +34,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             with bar:
                 run(deck, stream, arithmetic=args.arith, notice=notice,
                     kinematics_only=args.kinematics_only or args.only == "kinematics",
-                    max_sheets=args.max_sheets, progress=bar, tex=args.tex)
+                    max_sheets=args.max_sheets, progress=bar, tex=args.tex,
+                    vectorised=not args.port)
         except NotCrankRocker as exc:
             # The listing holds the 1966 message; an -o file is left as it was (exit 3).
             if args.render:
