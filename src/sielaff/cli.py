@@ -111,7 +111,8 @@ def sheet_count(text: str) -> int:
 # -- parser -----------------------------------------------------------------
 EXAMPLES = {
     "run": "example:\n  sielaff run decks/example.dat -o example.asa\n"
-           "  sielaff run decks/example.dat --render | less",
+           "  sielaff run decks/example.dat --render | less\n"
+           "  sielaff run --program decks/edits/tex-constant.f decks/example.dat | head -40",
     "diff": "example:\n  sielaff run decks/example.dat -o example.asa\n"
             "  sielaff diff example.asa golden/figure10.asa",
     "table": "example:\n  sielaff table decks/example.dat -o example.csv\n"
@@ -188,6 +189,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="drop statements 133-202 and their WRITEs, as the report describes")
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: the same as --kinematics-only (as for table and plot)")
+    p.add_argument("--program", metavar="SOURCE.f",
+                   help="run this FORTRAN program deck (decks/sielaff.f, or an edit of it) on "
+                        "the chosen arithmetic instead of the built-in port: docs/interpreter.md")
     p.add_argument("--port", action="store_true",
                    help="float64 only: print every sheet with the line-by-line port (the "
                         "reference) instead of many sheets at a time; the same bytes, slower")

@@ -131,9 +131,10 @@ class Program:
         """
         SQRT, ABS = self.ar.SQRT, self.ar.ABS
         PI = self._PI_ARCCOS
-        ZMULT = 1.0
-        PROD = 1.0
-        SAVE = 0.1E-50
+        num = self.ar.num  # a constant assigned is converted, as the compiler converted it
+        ZMULT = num(1.0)
+        PROD = num(1.0)
+        SAVE = num(0.1E-50)
         XX = X
         X2 = XX * XX
         if not ABS(XX) <= 0.7:
@@ -141,7 +142,7 @@ class Program:
             X2 = XX * XX
         SUM = (PI / 2.0) - XX                                   # 5
         VAL = XX
-        A = 0.0
+        A = num(0.0)
         for _ in range(ARCCOS_MAX_TERMS):
             A = A + 2.0                                         # 100
             PROD = PROD * A
@@ -163,9 +164,9 @@ class Program:
     def VECTOR(self, X, Y):
         """SUBROUTINE VECTOR(X,Y,VECT,DIRECT): magnitude and direction (degrees) of (X, Y)."""
         ar = self.ar
-        ANG = 0.0
-        PI = 3.14159265
-        RAD = 57.2957795
+        ANG = ar.num(0.0)
+        PI = ar.num(3.14159265)
+        RAD = ar.num(57.2957795)
         if X == 0.0:                                            # IF(X)36,37,36
             if Y < 0.0:                                         # 37 IF(Y)38,42,40
                 ANG = (3.0 * PI) / 2.0                          # 38
@@ -214,14 +215,14 @@ class Program:
         sheets = 0
         for THZERO, DELTA, THMAX in deck.ranges:                # 00027 READ(1,19)THZERO,DELTA,THMAX
             THZERO, DELTA, THMAX = num(THZERO), num(DELTA), num(THMAX)
-            G = 386.0880
+            G = num(386.0880)
             ZM2 = W2 / G
             ZM3 = W3 / G
             ZM4 = W4 / G
             TH = THZERO - DELTA
             I = start - 1
-            RAD = 57.295779
-            PI = 3.14159265
+            RAD = num(57.295779)
+            PI = num(3.14159265)
             SQ2D = TH2D * TH2D
             DEL2 = ADEL2 / RAD
             DEL3 = ADEL3 / RAD

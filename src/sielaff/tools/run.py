@@ -24,8 +24,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.tools.output import atomic_output
     from sielaff.tools.progress import run_progress
 
-    refuse_overwriting_inputs(args.output, [args.deck])
+    refuse_overwriting_inputs(args.output, [args.deck] + ([args.program] if args.program
+                                                           else []))
     deck = load_runnable(args.deck, args.arith, args.max_sheets)
+    if args.program:
+        return _run_program(args, deck)
     bar = run_progress(deck, args.max_sheets)  # on a terminal, if the run is long
     notice = bar.wrap(notice_printer(sys.stderr))
     with atomic_output(args.output) as out:
@@ -55,6 +58,40 @@ def cmd_run(args: argparse.Namespace) -> int:
         notice("change-point", f"card 3: {failure}; the 1966 test of statements 45-51 passed "
                f"by roundoff in {args.arith} arithmetic, so forces near the toggle are "
                "meaningless")
+    return 0
+
+
+def _run_program(args: argparse.Namespace, deck) -> int:
+    """``sielaff run --program SOURCE DECK``: the program deck itself, interpreted."""
+    from sielaff.emulator.fortran import FortranError, PageLimit, run_program
+    from sielaff.emulator.printer import AsaRenderer
+    from sielaff.emulator.run import notice_printer
+    from sielaff.tools.output import atomic_output
+
+    if args.kinematics_only or args.only or args.tex or args.port:
+        used = [o for o, on in (("--kinematics-only", args.kinematics_only),
+                                ("--only", args.only), ("--tex", args.tex),
+                                ("--port", args.port)) if on]
+        raise CommandError(f"{' '.join(used)}: with --program the deck is the program; make "
+                           "the edit on its cards (decks/edits/ has the report's three)")
+    try:
+        with open(args.program, encoding="ascii", errors="strict") as f:
+            source = f.read(1_000_000)
+    except (OSError, UnicodeDecodeError) as exc:
+        why = getattr(exc, "strerror", None) or "not an ASCII card deck"
+        raise CommandError(f"{args.program}: cannot read the program deck ({why})") from None
+    with atomic_output(args.output) as out:
+        stream = AsaRenderer(out) if args.render else out
+        try:
+            run_program(source, deck, stream, args.arith, args.program,
+                        notice_printer(sys.stderr), args.max_sheets)
+        except PageLimit as limit:
+            print(f"sielaff: warning: stopped after {limit.args[0]} sheets (--max-sheets); "
+                  "the deck asks for more", file=sys.stderr)
+        except FortranError as exc:
+            raise CommandError(str(exc)) from None
+        if args.render:
+            stream.close()
     return 0
 
 

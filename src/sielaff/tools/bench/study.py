@@ -110,8 +110,9 @@ def exact_program(ar: MPMath) -> Program:
     import sielaff.emulator.program as prog
 
     mp = ar.mpmath
-    subs = {"PI = 3.14159265": "PI = _EXACT_PI", "RAD = 57.295779": "RAD = _EXACT_RAD",
-            "RAD = 57.2957795": "RAD = _EXACT_RAD"}
+    subs = {"PI = num(3.14159265)": "PI = _EXACT_PI", "RAD = num(57.295779)": "RAD = _EXACT_RAD",
+            "PI = ar.num(3.14159265)": "PI = _EXACT_PI",
+            "RAD = ar.num(57.2957795)": "RAD = _EXACT_RAD"}
     namespace = dict(vars(prog))
     namespace["_EXACT_PI"] = mp.pi
     namespace["_EXACT_RAD"] = 180 / mp.pi

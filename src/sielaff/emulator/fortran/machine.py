@@ -1,0 +1,265 @@
+"""Running compiled program units: the statements in order, GO TO by statement number,
+calls by reference, READ through the card reader, WRITE through the 1410 printer."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from sielaff.emulator.fortran.compiler import compile_source
+from sielaff.emulator.fortran.source import (
+    LIBRARY,
+    STATEMENT_BUDGET,
+    FortranError,
+    Statement,
+    Unit,
+    implicit_type,
+)
+from sielaff.emulator.printer import Format, FormatError, Unprintable, _strict_value
+
+# -- running -----------------------------------------------------------------------
+
+class PageLimit(Exception):
+    """``max_pages`` sheets (page ejects, carriage control 1) were printed and the program
+    would print more; ``args[0]`` is the count."""
+
+
+class _Return(Exception):
+    pass
+
+
+class _Stop(Exception):
+    pass
+
+
+class Program:
+    """A compiled deck on one arithmetic, reading ``cards`` (lists of values, one per card)
+    and writing records through ``emit``."""
+
+    def __init__(self, units: dict[str, Unit], ar, cards, emit: Callable[[str], None],
+                 path: str = "<program>", max_pages: int | None = None) -> None:
+        self.units, self.ar, self.cards, self.emit, self.path = units, ar, cards, emit, path
+        self.max_pages, self.pages = max_pages, 0
+        self.card = 0
+        self.quiet = 0  # statements since the last line printed
+        self.env = {unit.name: self._environment(unit) for unit in units.values()}
+
+    def _environment(self, unit: Unit) -> dict:
+        ar = self.ar
+        env = dict(unit.consts)
+        env.update({"_num": ar.num, "_idiv": _idiv, "_pow": _pow, "_FLOAT": ar.num,
+                    "_IFIX": _ifix, "_INT": _ifix, "_IABS": abs, "_MOD": _mod,
+                    "_call": self._call_function})
+        for name in LIBRARY:
+            env[f"_lib_{name}"] = getattr(ar, name)
+        return env
+
+    def run(self) -> None:
+        try:
+            self._execute(self.units["MAIN"])
+        except _Stop:
+            pass
+
+    def _call_function(self, name, values, refs):
+        unit = self.units[name]
+        env = self.env[name]
+        for dummy, value in zip(unit.args, values):
+            env[f"V_{dummy}"] = value
+        caller = self._caller
+        self._execute(unit)
+        self._caller = caller
+        for dummy, ref in zip(unit.args, refs):  # copy out, by reference
+            if ref is not None:
+                self._caller_env[f"V_{ref}"] = env[f"V_{dummy}"]
+        try:
+            return env[f"V_{name}"]
+        except KeyError:
+            raise self._error(unit.statements[-1], f"FUNCTION {name} returns without "
+                              "setting its value") from None
+
+    def _error(self, st: Statement, text: str) -> FortranError:
+        label = f"statement {st.label}" if st.label is not None else "the statement"
+        return FortranError(f"{self.path}: {label} at card {st.card}: {text}")
+
+    def _execute(self, unit: Unit) -> None:
+        env = self.env[unit.name]
+        code, labels = unit.code, unit.labels
+        pc = 0
+        self._caller, self._caller_env = unit, env
+        while True:
+            st = code[pc]
+            pc += 1
+            self.quiet += 1
+            if self.quiet > STATEMENT_BUDGET:
+                raise self._error(st, f"{STATEMENT_BUDGET:,} statements without a line "
+                                  "printed: a loop that never ends?")
+            try:
+                jump = self._one(unit, env, st)
+            except _Return:
+                return
+            except (_Stop, FortranError):
+                raise
+            except NameError as exc:
+                name = str(exc).split("'")[1][2:] if "'" in str(exc) else "?"
+                raise self._error(st, f"{name} is used before it is given a value") from None
+            except ZeroDivisionError:
+                raise self._error(st, "division by zero") from None
+            except (ArithmeticError, ValueError) as exc:
+                raise self._error(st, f"{exc}") from None
+            if jump is not None:
+                pc = labels[jump]
+            self._caller, self._caller_env = unit, env
+
+    def _one(self, unit: Unit, env: dict, st: Statement):
+        kind = st.kind
+        if kind == "SET":
+            exec(st.data[1], env)  # noqa: S102 (code compiled from the deck above)
+            return None
+        if kind == "LIF":
+            if eval(st.data[0], env):  # noqa: S307
+                return self._one(unit, env, st.data[1])
+            return None
+        if kind == "AIF":
+            value = eval(st.data[0], env)  # noqa: S307
+            minus, zero, plus = st.data[1]
+            return minus if value < 0 else zero if value == 0 else plus
+        if kind == "GOTO":
+            return st.data[1][0]
+        if kind == "CGOTO":
+            k = eval(st.data[0], env)  # noqa: S307
+            targets = st.data[1]
+            return targets[k - 1] if 1 <= k <= len(targets) else None
+        if kind in ("CONTINUE", "FORMAT", "PAUSE"):
+            return None
+        if kind == "STOP":
+            raise _Stop
+        if kind in ("RETURN", "END"):
+            if unit.kind == "MAIN":
+                raise _Stop
+            raise _Return
+        if kind == "READ":
+            return self._read(unit, env, st)
+        if kind == "WRITE":
+            return self._write(unit, env, st)
+        if kind == "CALL":
+            name, args = st.data
+            target = self.units[name]
+            tenv = self.env[name]
+            for dummy, (code, ref) in zip(target.args, args):
+                if ref is not None and f"V_{ref}" not in env:  # an output argument
+                    tenv.pop(f"V_{dummy}", None)
+                else:
+                    tenv[f"V_{dummy}"] = eval(code, env)  # noqa: S307
+            self._execute(target)
+            for dummy, (_, ref) in zip(target.args, args):
+                if ref is not None and f"V_{dummy}" in tenv:
+                    env[f"V_{ref}"] = tenv[f"V_{dummy}"]
+            return None
+        raise self._error(st, f"cannot run {kind}")
+
+    def _format(self, unit: Unit, st: Statement, label: int) -> Format:
+        fmt = unit.formats.get(label)
+        if fmt is None:
+            raise self._error(st, f"FORMAT {label} is not in this program unit")
+        return fmt
+
+    def _read(self, unit: Unit, env: dict, st: Statement):
+        fmt_label, end, names = st.data
+        fmt = self._format(unit, st, fmt_label)
+        try:
+            values = self.cards[self.card]
+        except IndexError:
+            if end:
+                return end[0]
+            raise self._error(st, "READ past the last card (no END=)") from None
+        self.card += 1
+        if len(names) > min(len(values), fmt.n_edits):
+            raise self._error(st, f"READ of {len(names)} values from a card of "
+                              f"{len(values)} fields")
+        for name, value in zip(names, values):
+            env[f"V_{name}"] = (int(value) if implicit_type(name) == "I"
+                                else self.ar.num(value))
+        return None
+
+    def _write(self, unit: Unit, env: dict, st: Statement):
+        fmt_label, _, names = st.data
+        fmt = self._format(unit, st, fmt_label)
+        try:
+            values = [env[f"V_{n}"] for n in names]
+        except KeyError as exc:
+            raise self._error(st, f"{str(exc)[3:-1]} is printed before it is given a value"
+                              ) from None
+        for name, value in zip(names, values):
+            try:
+                _strict_value(value)
+            except Unprintable:
+                raise self._error(st, f"{name} = {float(value):.4E} cannot be printed: past "
+                                  "the IBM 1410's range (|x| < 1E99)") from None
+        try:
+            text = fmt.text_function(len(values), strict=True)(*values)
+        except FormatError as exc:
+            raise self._error(st, str(exc)) from None
+        if self.max_pages is not None and text.startswith("1"):
+            if self.pages >= self.max_pages:
+                raise PageLimit(self.pages)
+        self.emit(text)
+        if text.startswith("1"):
+            self.pages += 1
+        self.quiet = 0
+        return None
+
+
+def _idiv(a: int, b: int) -> int:
+    if b == 0:
+        raise ZeroDivisionError
+    q = abs(a) // abs(b)
+    return q if (a >= 0) == (b >= 0) else -q
+
+
+def _mod(a: int, b: int) -> int:
+    return a - _idiv(a, b) * b
+
+
+def _ifix(x) -> int:
+    return int(float(x))  # truncation toward zero
+
+
+def _pow(a, n: int):
+    if n < 0:
+        return 1.0 / _pow(a, -n)
+    result = None
+    for _ in range(n):
+        result = a if result is None else result * a
+    return a * 0 + 1 if result is None else result
+
+
+def deck_cards(deck) -> list:
+    """The data deck's cards as the card reader gave their values (card by card)."""
+    from sielaff.emulator.cards import PARAMETER_CARDS
+
+    cards = []
+    m = deck.mechanism
+    for names in PARAMETER_CARDS:
+        cards.append([getattr(m, n) for n in names])
+
+    class Cards(list):
+        def __getitem__(self, i):
+            if i < len(cards):
+                return cards[i]
+            return list(deck.ranges[i - len(cards)])
+
+        def __len__(self):
+            return len(cards) + len(deck.ranges)
+
+    return Cards()
+
+
+def run_program(source: str, deck, out, arithmetic: str = "float64",
+                path: str = "<program>", notice=None, max_pages: int | None = None) -> None:
+    """Run the program deck ``source`` on the data ``deck``, the listing on ``out``; with
+    ``max_pages`` stop (PageLimit) before the page eject past that many sheets."""
+    from sielaff.emulator.arithmetic import get_arithmetic
+
+    notice = notice or (lambda kind, text: None)
+    ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
+    units = compile_source(source, ar, path)
+    Program(units, ar, deck_cards(deck), out.write, path, max_pages).run()

@@ -1,0 +1,102 @@
+"""Reading a FORTRAN source deck card by card, as the 1410 compiler read it: statement
+numbers, continuations, comments, blanks squeezed out (a FORMAT keeps its own)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from sielaff.emulator.printer import Format
+
+LIBRARY = ("SIN", "COS", "ATAN", "SQRT", "ABS")
+INTEGER_FUNCTIONS = ("FLOAT", "IFIX", "INT", "IABS", "MOD")
+#: Statements executed without a line printed before the run is called a loop that
+#: never ends (the port's ARCCOS gives up after 10,000 terms: about 80,000 statements).
+STATEMENT_BUDGET = 1_000_000
+
+
+class FortranError(Exception):
+    """A deck the interpreter cannot compile or run; ``str(err)`` is one line."""
+
+
+@dataclass
+class Statement:
+    """One source statement: where it is (card, column of each character), its number."""
+
+    card: int
+    label: int | None
+    text: str                   # blanks removed (a FORMAT keeps its own)
+    cols: list[tuple[int, int]]  # (card, column) of each character of ``text``
+    kind: str = ""
+    data: tuple = ()
+
+    def where(self, i: int = 0) -> str:
+        card, col = self.cols[min(i, len(self.cols) - 1)] if self.cols else (self.card, 7)
+        return f"card {card}, column {col}"
+
+
+@dataclass
+class Unit:
+    """A program unit: the main program, a FUNCTION or a SUBROUTINE."""
+
+    kind: str                  # "MAIN", "FUNCTION", "SUBROUTINE"
+    name: str
+    args: list[str]
+    statements: list[Statement] = field(default_factory=list)
+    labels: dict[int, int] = field(default_factory=dict)
+    formats: dict[int, Format] = field(default_factory=dict)
+    code: list = field(default_factory=list)
+
+
+# -- reading the cards ---------------------------------------------------------
+
+def _statements(text: str, path: str) -> list[Statement]:
+    out: list[Statement] = []
+    for n, raw in enumerate(text.splitlines(), 1):
+        line = raw.rstrip("\r")
+        bad = re.search(r"[^\x20-\x7e]", line)
+        if bad:
+            raise FortranError(f"{path}: card {n}, column {bad.start() + 1}: "
+                               f"character {bad.group()!a} is not on a card punch")
+        if not line.strip() or line[:1] in "Cc*":
+            continue
+        line = line[:72].ljust(72)
+        label_text, mark, body = line[:5], line[5], line[6:72]
+        cols = [(n, 7 + i) for i in range(len(body))]
+        if mark not in " 0":
+            if not out:
+                raise FortranError(f"{path}: card {n}, column 6: a continuation card with "
+                                   "no statement before it")
+            if label_text.strip():
+                raise FortranError(f"{path}: card {n}, columns 1-5: a continuation card "
+                                   "has no statement number")
+            out[-1].text += body
+            out[-1].cols += cols
+            continue
+        label = None
+        if label_text.strip():
+            digits = label_text.replace(" ", "")
+            if not digits.isdigit():
+                col = next(i for i, c in enumerate(label_text) if c != " " and not
+                           c.isdigit()) + 1
+                raise FortranError(f"{path}: card {n}, column {col}: statement number "
+                                   f"{label_text.strip()!r} is not a number")
+            label = int(digits)
+        out.append(Statement(n, label, body, cols))
+    for st in out:  # blanks out, except in a FORMAT (its Hollerith text keeps them)
+        squeezed = "".join(c for c in st.text if c != " ")
+        if squeezed.startswith("FORMAT("):
+            first = next(i for i, c in enumerate(st.text) if c != " ")
+            st.text, st.cols = st.text[first:].rstrip(), st.cols[first:]
+            st.kind = "FORMAT"
+        else:
+            keep = [i for i, c in enumerate(st.text) if c != " "]
+            st.cols = [st.cols[i] for i in keep]
+            st.text = squeezed
+    return out
+
+
+def implicit_type(name: str) -> str:
+    return "I" if name[0] in "IJKLMN" else "R"
+
+
