@@ -20,6 +20,8 @@ def _rounded(value: float) -> Decimal:
 
 
 def cmd_balance(args) -> int:
+    import os
+
     import numpy as np
 
     from sielaff.design.balance import balance
@@ -33,6 +35,8 @@ def cmd_balance(args) -> int:
 
     path = args.deck
     refuse_overwriting_inputs(args.output, [path])
+    if args.output and os.path.isdir(args.output):
+        raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
     deck, scene = load_scene(path, ["SHAK"])
     m = deck.mechanism
     try:

@@ -73,8 +73,16 @@ def cmd_sweep(args) -> int:
     from sielaff.tools.spec import PunchError, read_spec, sweep_of
 
     path = args.spec
-    refuse_overwriting_inputs(args.output, [path])
-    refuse_overwriting_inputs(args.plot, [path])
+    for target in (args.output, args.plot):
+        refuse_overwriting_inputs(target, [path])
+        if target and os.path.isdir(target):
+            raise CommandError(f"sielaff: {target} is a folder: name the file to write")
+    if args.plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise CommandError("sielaff: --plot needs matplotlib: pip install -e "
+                               "\".[plot]\"") from None
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: sweep reads a TOML spec with a [sweep] table")
     deck, scene = read_spec_deck(path)
