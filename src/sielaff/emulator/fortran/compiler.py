@@ -282,10 +282,8 @@ class _Compiler:
         for st in unit.statements:
             self.statement(unit, st)
             unit.code.append(st)
-        for st in unit.statements:  # every GO TO goes somewhere
-            targets = (st.data[1] if st.kind in ("GOTO", "CGOTO", "AIF") else
-                       st.data[2] if st.kind == "LIF" and len(st.data) == 3 else ())
-            for target in targets:
+        for st in unit.statements:  # every GO TO (and END=) goes somewhere
+            for target in _jumps(st):
                 if target not in unit.labels:
                     raise FortranError(f"{st.where()}: GO TO {target}: there is no "
                                        f"statement {target} in this program unit")
@@ -391,6 +389,15 @@ class _Compiler:
         word = next((k for k in KNOWN if s.startswith(k)), None) or s[:12]
         raise FortranError(f"{st.where()}: not in the subset the interpreter knows: "
                            f"{word!r}... (docs/interpreter.md)")
+
+
+def _jumps(st: Statement) -> tuple[int, ...]:
+    """The statement numbers ``st`` may go to."""
+    if st.kind in ("GOTO", "CGOTO", "AIF", "READ"):
+        return st.data[1]
+    if st.kind == "LIF":
+        return _jumps(st.data[1])
+    return ()
 
 
 def compile_source(text: str, ar, path: str = "<program>") -> dict[str, Unit]:

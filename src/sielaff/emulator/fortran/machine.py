@@ -106,6 +106,8 @@ class Program:
             except (ArithmeticError, ValueError) as exc:
                 raise self._error(st, f"{exc}") from None
             if jump is not None:
+                if jump not in labels:  # compile_source checks every jump; a guard
+                    raise self._error(st, f"no statement {jump} in this program unit")
                 pc = labels[jump]
             self._caller, self._caller_env = unit, env
 
