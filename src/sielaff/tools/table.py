@@ -62,6 +62,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from collections.abc import Iterator
 from decimal import Decimal
 from fractions import Fraction
@@ -196,21 +197,25 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     else:
         out.write(header(names, units, system) + "\n")
     rows = 0
+    buffers = np.empty((len(wanted), BLOCK))
     bad: dict[int, list[int]] = {}  # card -> [positions not finite, positions]
     batch: list[tuple[int, int, np.ndarray]] = []  # (card, positions, angles): one call
     batched = 0
 
     def flush() -> None:
-        nonlocal rows, batched
+        nonlocal rows, batched, buffers
         if not batch:
             return
         ath2 = np.concatenate([a for _, _, a in batch])
-        with np.errstate(all="ignore"):
-            result = engine.analyze(deck.mechanism, ath2, outputs=wanted, **scene)
-        block = np.empty((ath2.size, len(wanted)))
-        for j, name in enumerate(wanted):
-            block[:, j] = result[name]
-        del result
+        # the engine writes into the same buffers block after block: no fresh pages
+        if buffers.shape[1] < ath2.size:  # a batch may pass BLOCK by one card's share
+            buffers = np.empty((len(wanted), ath2.size))
+        view = buffers[:, :ath2.size]
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", engine.AssemblyWarning)  # counted below
+            engine.analyze(deck.mechanism, ath2, **scene,
+                           out={name: view[j] for j, name in enumerate(wanted)})
+        block = view.T
         start = 0
         for card, n, a in batch:
             part = block[start:start + a.size]
