@@ -148,7 +148,7 @@ class _Expr:
         if kind == "real":
             return self.c.constant(text), "R"
         if kind == "int":
-            return text, "I"
+            return str(int(text)), "I"  # "01" is 1
         if text == "(":
             a, ta = self.lor()
             self.take(")")
@@ -184,6 +184,14 @@ _ARITH_IF = re.compile(r"(\d+),(\d+),(\d+)$")
 _IO = re.compile(r"(READ|WRITE)\((\d+),(\d+)(,END=(\d+))?\)")
 _HEAD = re.compile(r"(FUNCTION|SUBROUTINE)([A-Z][A-Z0-9]*)(\(([A-Z0-9,]*)\))?$")
 _CALL = re.compile(r"CALL([A-Z][A-Z0-9]*)(\((.*)\))?$")
+
+
+def _code(st: Statement, src: str, mode: str):
+    """``src`` compiled; what Python cannot compile is a statement the subset cannot hold."""
+    try:
+        return compile(src, f"card {st.card}", mode)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        raise FortranError(f"{st.where()}: cannot compile this statement") from None
 
 
 def _close(st: Statement, start: int) -> int:
@@ -304,9 +312,8 @@ class _Compiler:
         if eq > 0 and m and m.end() == eq + 1 and _top_level(st, ",", eq) < 0:
             name = m.group(1)
             st.kind = "SET"
-            st.data = (name, compile(f"V_{name} = "
-                                     f"{self.expr(st, eq + 1, len(s), implicit_type(name))}",
-                                     f"card {st.card}", "exec"))
+            st.data = (name, _code(st, f"V_{name} = "
+                                   f"{self.expr(st, eq + 1, len(s), implicit_type(name))}", "exec"))
             return
         if s.startswith("IF("):
             close = _close(st, 2)
@@ -314,13 +321,13 @@ class _Compiler:
             m = _ARITH_IF.match(rest)
             if m:
                 st.kind = "AIF"
-                st.data = (compile(self.expr(st, 3, close), f"card {st.card}", "eval"),
+                st.data = (_code(st, self.expr(st, 3, close), "eval"),
                            tuple(int(g) for g in m.groups()))
                 return
             if inner or not rest:
                 raise FortranError(f"{st.where(close + 1)}: IF(...) needs three statement "
                                    "numbers or one statement")
-            cond = compile(self.expr(st, 3, close, "L"), f"card {st.card}", "eval")
+            cond = _code(st, self.expr(st, 3, close, "L"), "eval")
             sub = Statement(st.card, None, rest, st.cols[close + 1:])
             self.statement(unit, sub, inner=True)
             if sub.kind in ("FORMAT", "END"):
@@ -337,7 +344,7 @@ class _Compiler:
         m = _CGOTO.match(s)
         if m:
             targets = tuple(int(x) for x in m.group(1).split(",") if x)
-            st.kind, st.data = "CGOTO", (compile(f"V_{m.group(2)}", "c", "eval"), targets)
+            st.kind, st.data = "CGOTO", (_code(st, f"V_{m.group(2)}", "eval"), targets)
             return
         if s in ("CONTINUE", "STOP", "PAUSE", "RETURN", "END") or re.fullmatch(
                 r"(STOP|PAUSE)\d*", s):
@@ -377,7 +384,7 @@ class _Compiler:
                 while pos <= len(s) - 1:
                     comma = _top_level(st, ",", pos)
                     stop = comma if 0 <= comma < len(s) - 1 else len(s) - 1
-                    args.append((compile(self.expr(st, pos, stop), "c", "eval"),
+                    args.append((_code(st, self.expr(st, pos, stop), "eval"),
                                  s[pos:stop] if re.fullmatch(r"[A-Z][A-Z0-9]*", s[pos:stop])
                                  else None))
                     pos = stop + 1
@@ -431,6 +438,8 @@ def compile_source(text: str, ar, path: str = "<program>") -> dict[str, Unit]:
             compiler.compile(unit)
     except FortranError as exc:
         raise FortranError(f"{path}: {exc}") from None
+    except RecursionError:
+        raise FortranError(f"{path}: an expression nested too deeply to compile") from None
     consts = {name: ar.num(text) for name, text in compiler.consts.items()}
     for unit in units.values():
         unit.consts = consts

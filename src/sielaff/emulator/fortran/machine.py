@@ -39,6 +39,7 @@ class Program:
                  path: str = "<program>", max_pages: int | None = None) -> None:
         self.units, self.ar, self.cards, self.emit, self.path = units, ar, cards, emit, path
         self.max_pages, self.pages = max_pages, 0
+        self.active: set[str] = set()
         self.card = 0
         self.quiet = 0  # statements since the last line printed
         self.env = {unit.name: self._environment(unit) for unit in units.values()}
@@ -81,6 +82,17 @@ class Program:
         return FortranError(f"{self.path}: {label} at card {st.card}: {text}")
 
     def _execute(self, unit: Unit) -> None:
+        if unit.name in self.active:  # the 1410's subprograms had one return address
+            st = unit.statements[0]
+            raise self._error(st, f"{unit.name} is called while it is running (a subprogram "
+                              "cannot call itself)")
+        self.active.add(unit.name)
+        try:
+            self._execute_unit(unit)
+        finally:
+            self.active.discard(unit.name)
+
+    def _execute_unit(self, unit: Unit) -> None:
         env = self.env[unit.name]
         code, labels = unit.code, unit.labels
         pc = 0
