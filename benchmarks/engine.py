@@ -150,6 +150,12 @@ def main(argv=None) -> int:
         ("engine, all results + TORQ parts, crank acceleration, gravity, two loads, `out=`",
          lambda: engine.analyze(m, ath2, out={**outs, **more}, **scene)),
     ]
+    from sielaff.engine.compiled import available
+
+    if available():
+        engine.analyze(m, ath2[:10], backend="numba")  # compile once, outside the timing
+        configs.append(("engine, all results, `backend='numba'` (optional extra)",
+                        lambda: engine.analyze(m, ath2, backend="numba")))
     engine.analyze(m, ath2[:1000])  # warm-up
     series = []
     for name, fn in configs:
@@ -183,6 +189,11 @@ def main(argv=None) -> int:
         f"* Throughput against the open branch (all results, `out=`): the crossed branch "
         f"{med[4] / med[1]:.2f}x; crank acceleration, gravity and two loads together "
         f"{med[5] / med[1]:.2f}x (with three more outputs).",
+        *([f"* The compiled loop (numba, one core): {med[6]:.2f}x gfortran (goal >= 3x: "
+           f"{'met' if med[6] >= 3 else 'not met'}); it calls libm's atan2 and sqrt per "
+           "position (18 and 16 times), which LLVM does not vectorise: a branch-free "
+           "polynomial atan2 is what a prototype needed for 2.6x."] if len(med) > 6 else
+          ["* The compiled loop: numba is not installed here."]),
         f"* Check: the sum of every printed value over the {n:,} positions, gfortran "
         f"{chk:.10e}, engine {eng_chk:.10e} (relative difference {rel:.1e}).", "",
         "What bounds the engine (cProfile of `analyze(..., out=...)`, all results, 10^6 "

@@ -167,7 +167,7 @@ def _run(order, ns: dict[str, Any]) -> int | None:
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
             tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None,
             loads: Any = (), branch: str = "open", out: dict | None = None,
-            block: int | None = None) -> Results:
+            block: int | None = None, backend: str = "numpy") -> Results:
     """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
 
     ``out``: arrays to write the results into, ``{name: array}`` (float64, the shape of
@@ -204,6 +204,9 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     (:func:`sielaff.mechanism.validate`: a missing or non-finite field, a length that
     is not positive, a negative weight or inertia).
     """
+    if backend != "numpy":
+        return _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads,
+                                 branch, out, backend)
     if out is not None:
         return _analyze_into(mechanism, ath2, out, block or BLOCK, tex, th2dd, gravity,
                              loads, branch)
@@ -294,4 +297,35 @@ def _analyze_into(mechanism, ath2, out, block, tex, th2dd, gravity, loads, branc
         warnings.warn(f"{missing} of {n} positions cannot assemble (the loop does not close "
                       "there): their results are NaN; ask for the ASSEMBLED output for the "
                       "mask", AssemblyWarning, stacklevel=3)
+    return result
+
+
+def _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads, branch, out,
+                      backend):
+    """``analyze(..., backend="numba")`` (see analyze)."""
+    if backend != "numba":
+        raise ValueError(f"backend = {backend!r}: 'numpy' or 'numba'")
+    from sielaff.engine.compiled import compiled_results
+
+    validate(mechanism)
+    wanted = _check_outputs(list(out) if out is not None else outputs)
+    missing = [n for n in wanted if n not in RESULTS]
+    if missing:
+        raise ValueError(f"backend='numba' gives the RESULTS names, not {missing}")
+    th = np.asarray(ath2, dtype=float)
+    table = compiled_results(mechanism, th, tex, th2dd=th2dd, gravity=gravity, loads=loads,
+                             branch=branch)
+    index = {name: i for i, name in enumerate(RESULTS)}
+    result = Results()
+    for name in wanted:
+        row = table[index[name]].reshape(th.shape)
+        if out is not None:
+            out[name][...] = row
+            row = out[name]
+        result[name] = row
+    result.not_assembled = int(np.count_nonzero(np.isnan(table[index["GAMMA"]])))  # s34
+    if result.not_assembled:
+        warnings.warn(f"{result.not_assembled} of {th.size} positions cannot assemble (the "
+                      "loop does not close there): their results are NaN", AssemblyWarning,
+                      stacklevel=3)
     return result
