@@ -23,6 +23,7 @@ from sielaff.emulator.fortran import FortranError, compile_source, run_program
 from sielaff.emulator.fortran import source as fsource
 from sielaff.emulator.run import run
 from sielaff.engine import analyze
+from test_vector import _field  # an F8.4 field for a drawn value
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCE = (ROOT / "decks" / "sielaff.f").read_text()
@@ -49,11 +50,6 @@ def port(deck, arith: str, **options) -> str:
 def test_the_deck_is_the_port_byte_for_byte(arith, card):
     deck = parse_deck("\n".join(PARAMETERS + [card]) + "\n")
     assert listing(SOURCE, deck, arith) == port(deck, arith)
-
-
-def _field(x: float) -> str:
-    text = f"{x:.4f}"
-    return text.rjust(8) if len(text) <= 8 else f"{x:.3g}".rjust(8)
 
 
 @st.composite

@@ -17,6 +17,13 @@ from sielaff.emulator.cards import parse_deck
 from sielaff.emulator.program import SheetLimit
 from sielaff.emulator.run import ProgramError, notice_printer, run
 
+@pytest.fixture(autouse=True)
+def every_deck_vectorised(monkeypatch):
+    """Decks of short range cards go to the port in ``sielaff run`` (MIN_SHEETS_PER_CARD);
+    here the vectorised path takes them all, so that it is the one tested."""
+    monkeypatch.setattr(vector, "MIN_SHEETS_PER_CARD", 0)
+
+
 PARAMETERS = ["     3.0     8.0     6.0", "     0.0     0.5     0.4",
               "    12.0     4.0    16.0    12.0", "     0.0   -15.0    15.0",
               "     2.0     8.0     6.0", "    50.0"]
@@ -132,3 +139,12 @@ def test_without_numpy_agreeing_the_port_prints(monkeypatch):
     monkeypatch.setattr(vector, "vector_run", lambda *a, **k: called.append(1))
     run(deck, io.StringIO())
     assert not called
+
+
+def test_short_range_cards_go_to_the_port(monkeypatch):
+    """A block costs about a millisecond whatever its size: a deck of one-sheet range
+    cards is the port's (MIN_SHEETS_PER_CARD), a deck of long ones the vectorised path's."""
+    monkeypatch.setattr(vector, "MIN_SHEETS_PER_CARD", 32)
+    short = parse_deck("\n".join(PARAMETERS + ["    10.0    10.0     5.0"] * 50) + "\n")
+    long = parse_deck("\n".join(PARAMETERS + ["    10.0     1.0   360.0"]) + "\n")
+    assert not vector.applies(short) and vector.applies(long)

@@ -62,6 +62,8 @@ __all__ = ["CHUNK", "applies", "numpy_matches_libm", "vector_run"]
 
 #: Sheets computed and written at a time.
 CHUNK = 2048
+#: Below this many sheets per range card on average, the port prints the deck.
+MIN_SHEETS_PER_CARD = 32
 
 #: The WRITEs of one sheet: (FORMAT, index into SHEET_FIELDS or None).
 SHEET_WRITES = ((7, None), (10, None), (1, 0), (11, None), (2, 1), (12, None), (5, 2),
@@ -129,7 +131,16 @@ def applies(deck) -> bool:
         return False
     if not numpy_matches_libm():
         return False
-    return all(sheet_count(*(float(x) for x in r)) is not None for r in deck.ranges)
+    cards = len(deck.ranges)
+    total = 0
+    for r in deck.ranges:
+        n = sheet_count(*(float(x) for x in r))
+        if n is None:
+            return False
+        total += n
+    # a block costs about a millisecond whatever its size: range cards of a few sheets
+    # each are the port's (a sheet there costs some 40 microseconds)
+    return total >= MIN_SHEETS_PER_CARD * cards
 
 
 # -- the arithmetic ----------------------------------------------------------
