@@ -17,6 +17,7 @@ from sielaff.emulator.cards import parse_deck
 from sielaff.emulator.program import SheetLimit
 from sielaff.emulator.run import ProgramError, notice_printer, run
 
+
 @pytest.fixture(autouse=True)
 def every_deck_vectorised(monkeypatch):
     """Decks of short range cards go to the port in ``sielaff run`` (MIN_SHEETS_PER_CARD);
