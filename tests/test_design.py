@@ -350,3 +350,15 @@ def test_bearings_plot_draws_the_data_without_overlaps():
             np.testing.assert_array_equal(line.get_ydata(), pin.load)
             np.testing.assert_array_equal(line.get_xdata(), np.radians(member.direction))
     assert overlapping(text_boxes(fig)) == []
+
+
+def test_check_of_a_balanced_linkage_says_zero_without_an_angle():
+    """The shaking force of an exactly balanced linkage is roundoff: check prints 0 and
+    no angle (which would depend on the last bits); a deck rounded to F8.4 keeps a real
+    residual, printed with its digits."""
+    from sielaff.tools.check import CheckReport, _revolution_section
+
+    rep = CheckReport()
+    _revolution_section(balance(EXAMPLE), rep)
+    line = next(x for x in rep.lines if "shaking force SHAKE" in x)
+    assert "0 lb to roundoff" in line and "THETA 2" not in line

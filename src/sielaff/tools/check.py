@@ -358,8 +358,10 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
     from sielaff.engine import analyze
 
     rep.add("  peak bearing loads:")
+    peak_loads = []
     for name, heading, where in BEARINGS:
         at, value = _extreme(m, name, scene=scene)
+        peak_loads.append(value)
         direction = float(analyze(m, at, ["D" + name], **scene)["D" + name])
         rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} {U['lb']} at THETA 2 = "
                 f"{at:5.1f} deg, direction {direction:5.1f} deg")
@@ -389,7 +391,12 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
     _, sx_neg = _extreme(m, "SHAKX", -1.0, scene=scene)
     _, sy = _extreme(m, "SHAKY", scene=scene)
     _, sy_neg = _extreme(m, "SHAKY", -1.0, scene=scene)
-    rep.add(f"  shaking force SHAKE: peak {shak:.1f} {U['lb']} at THETA 2 = {at:.1f} deg")
+    if shak <= 1e-9 * max(peak_loads):  # balanced: zero to roundoff, an angle would be noise
+        rep.add(f"  shaking force SHAKE: 0 {U['lb']} to roundoff (below 1E-9 of the largest "
+                "pin load): the linkage is force-balanced")
+    else:
+        text = f"{shak:.1f}" if shak >= 1.0 else f"{shak:.2g}"  # a balanced deck's residual
+        rep.add(f"  shaking force SHAKE: peak {text} {U['lb']} at THETA 2 = {at:.1f} deg")
     rep.add(f"    X component from {sx_neg:.1f} to {sx:.1f} {U['lb']}, "
             f"Y component from {sy_neg:.1f} to {sy:.1f} {U['lb']}")
 
