@@ -362,3 +362,16 @@ def test_check_of_a_balanced_linkage_says_zero_without_an_angle():
     _revolution_section(balance(EXAMPLE), rep)
     line = next(x for x in rep.lines if "shaking force SHAKE" in x)
     assert "0 lb to roundoff" in line and "THETA 2" not in line
+
+
+def test_sweep_varies_tex_and_the_counterweight_radius():
+    """TEX (the scene's torque on the rocker) and CW_R4 (the rocker counterweight's radius)
+    as sweep axes: each row is its design computed directly."""
+    grid = Grid(EXAMPLE, {"TEX": [0.0, 500.0], "CW_R4": [6.0, 12.0], "BALANCE": [1]})
+    rows = np.concatenate(list(iter_blocks(grid, n=120)))
+    th = np.arange(120) * 3.0
+    for i, (tex, r4) in enumerate([(0.0, 6.0), (0.0, 12.0), (500.0, 6.0), (500.0, 12.0)]):
+        m = balance(EXAMPLE, radius4=r4)
+        r = analyze(m, th, ["TORQ", "FOB"], tex)
+        assert rows[i, 4] == pytest.approx(np.abs(r["TORQ"]).max(), rel=1e-12)
+        assert rows[i, 10] == pytest.approx(r["FOB"].max(), rel=1e-12)

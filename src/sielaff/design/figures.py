@@ -66,6 +66,8 @@ def figures(mechanism: Mechanism, n: int = 360, cf: float = 0.05, **scene: Any
     if not ok.any():
         return out
     sub = m.replace(**{k: v[ok][:, None] for k, v in fields.items()})
+    if np.ndim(scene.get("tex", 0.0)) == 2:  # a sweep's TEX, one per design
+        scene = dict(scene, tex=np.asarray(scene["tex"])[ok])
     th = np.arange(n) * (360.0 / n)
     with np.errstate(all="ignore"):
         r = analyze(sub, th, _NEED, **scene)

@@ -14,8 +14,10 @@ client, dask's local threads (numpy releases the GIL), with a ``dask.distributed
 client, its workers.  A block's memory: about ``BLOCK * n * 8 bytes`` per engine
 array, some 60 arrays (docs/design.md measures it).
 
-The swept names are the mechanism's fields (W2 ... TH2D) and ``BALANCE`` (0 or 1:
-the design with Berkof-Lowen counterweights merged in, design.balance).
+The swept names are the mechanism's fields (W2 ... TH2D), ``TEX`` (the scene's torque on
+the rocker, in-lb or N m), ``BALANCE`` (0 or 1: the design with Berkof-Lowen counterweights
+merged in, design.balance) and ``CW_R2``, ``CW_R4`` (the counterweights' radii from O2 and
+O4 when BALANCE is 1; default R2 and R4).
 """
 
 from __future__ import annotations
@@ -34,7 +36,9 @@ __all__ = ["BLOCK", "SWEEPABLE", "Grid", "block", "iter_blocks"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
-SWEEPABLE = tuple(FIELD_NAMES) + ("BALANCE",)
+SWEEPABLE = tuple(FIELD_NAMES) + ("TEX", "BALANCE", "CW_R2", "CW_R4")
+#: Swept names that are not mechanism fields.
+_OTHER = ("TEX", "BALANCE", "CW_R2", "CW_R4")
 
 
 class Grid:
@@ -61,20 +65,26 @@ def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: dict
           ) -> dict[str, np.ndarray]:
     """Grid values and figures of designs start..stop-1."""
     values = grid.designs(start, stop)
-    fields = {k: v for k, v in values.items() if k != "BALANCE"}
+    fields = {k: v for k, v in values.items() if k not in _OTHER}
     m = grid.base.replace(**{k: np.broadcast_to(np.asarray(getattr(grid.base, k), float),
                                                 (stop - start,)).copy()
                              for k in FIELD_NAMES}).replace(**fields)
     if "BALANCE" in values:
         on = values["BALANCE"] != 0.0
         if on.any():
-            b = balance(m.replace(**{k: v[on] for k, v in m.as_dict().items()}))
+            part = m.replace(**{k: v[on] for k, v in m.as_dict().items()})
+            radii = {name: values[key][on] for key, name in (("CW_R2", "radius2"),
+                                                             ("CW_R4", "radius4"))
+                     if key in values}
+            b = balance(part, **radii)
             merged = {}
             for k in FIELD_NAMES:
                 v = np.array(getattr(m, k), dtype=float)
                 v[on] = getattr(b, k)
                 merged[k] = v
             m = m.replace(**merged)
+    if "TEX" in values:
+        scene = dict(scene, tex=values["TEX"][:, None])  # one TEX per design
     out = {"DESIGN": np.arange(start, stop, dtype=float)}
     out.update(values)
     out.update(figures(m, n=n, cf=cf, **scene))

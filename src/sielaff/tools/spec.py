@@ -393,7 +393,8 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
         angles = 360                  # crank angles per revolution (default 360)
         cf = 0.05                     # coefficient of speed fluctuation (flywheel)
         pareto = ["TORQ_PEAK", "SHAK_PEAK"]   # the two figures plotted (both minimised)
-        [sweep.vary]                  # listing names (R4, W3, TH2D, ...) or BALANCE
+        [sweep.vary]                  # listing names (R4, W3, TH2D, ...), TEX, BALANCE,
+                                      # CW_R2 and CW_R4 (counterweight radii)
         R4 = { from = 10.0, to = 14.0, n = 41 }   # evenly spaced, both ends
         W3 = [4.0, 8.0, 12.0]                     # or the values themselves
         BALANCE = [0, 1]                          # without and with counterweights
@@ -452,6 +453,8 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
             raise PunchError(f"{where}: values must be finite")
         if name == "BALANCE" and not np.all(np.isin(values, (0.0, 1.0))):
             raise PunchError(f"{where}: 0 (as designed) or 1 (balanced)")
+        if name in ("CW_R2", "CW_R4") and not np.all(values > 0.0):
+            raise PunchError(f"{where}: a counterweight's radius must be > 0")
         axes[name] = values
     size = math.prod(len(v) for v in axes.values())
     if size > MAX_DESIGNS:

@@ -42,7 +42,8 @@ def _header(names: list[str], system: str) -> str:
     def one(n: str) -> str:
         if n in ("DESIGN", "BALANCE", "KIND"):
             return n
-        return f"{n}[{unit(FIGURES[n][0] if n in FIGURES else n, system)}]"
+        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
+        return f"{n}[{unit(base, system)}]"
 
     return ",".join(one(n) for n in names)
 
