@@ -208,8 +208,8 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
         return _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads,
                                  branch, out, backend)
     if out is not None:
-        return _analyze_into(mechanism, ath2, out, block or BLOCK, tex, th2dd, gravity,
-                             loads, branch)
+        return _analyze_into(mechanism, ath2, out, BLOCK if block is None else block, tex,
+                             th2dd, gravity, loads, branch)
     wanted = _check_outputs(outputs)
     validate(mechanism)
     ns = _seed(mechanism, ath2, tex, th2dd, gravity, loads, branch)
@@ -281,16 +281,29 @@ def _analyze_into(mechanism, ath2, out, block, tex, th2dd, gravity, loads, branc
     for name, array in flat.items():
         if not np.shares_memory(array, out[name]):
             raise ValueError(f"out[{name!r}] must be contiguous (it is written in place)")
+    # One design: checked, seeded and planned once; each block only brings its angles
+    # (and its share of an array TEX or TH2DD), so a block costs its arithmetic alone.
+    validate(mechanism)
+    varying = [name for name, v in (("TEX", tex), ("TH2DD", th2dd))
+               if not callable(v) and np.ndim(v)]
+    base = _seed(mechanism, flat_th[:1], 0.0 if "TEX" in varying else tex,
+                 th2dd=0.0 if "TH2DD" in varying else th2dd, gravity=gravity, loads=loads,
+                 branch=branch)
+    seeded = frozenset(base)
+    order = None if varying else _plan(wanted, seeded, _zero_seeds(base))
     missing: int | None = 0
     for i in range(0, n, block):
         j = min(i + block, n)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AssemblyWarning)
-            r = analyze(mechanism, flat_th[i:j], wanted, part(tex, i, j), th2dd=part(th2dd, i, j),
-                        gravity=gravity, loads=loads, branch=branch)
-        missing = None if r.not_assembled is None else (missing or 0) + r.not_assembled
+        ns = dict(base)
+        ns["ATH2"] = flat_th[i:j]
+        for name in varying:
+            ns[name] = part(tex if name == "TEX" else th2dd, i, j)
+        plan = order or _plan(wanted, seeded, _zero_seeds(ns))
+        with np.errstate(all="ignore"):
+            count = _run(plan, ns)
+        missing = None if count is None else (missing or 0) + count
         for name in wanted:
-            flat[name][i:j] = r[name]
+            flat[name][i:j] = ns[name]
     result = Results((name, out[name]) for name in wanted)
     result.not_assembled = missing
     if missing:
