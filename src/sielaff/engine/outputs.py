@@ -41,13 +41,45 @@ def _direction(x, y):
     return d
 
 
+#: Velocities of points on links 2 and 4, which turn about fixed pivots: the magnitude is
+#: r |w| and the direction the line to the point plus 90 degrees (w > 0) or minus 90, so
+#: neither needs a square root or an atan2 (the algebraic minimum; docs/performance.md).
+#: name -> (distance, line angle, its offset ADEL or None, angular velocity)
+ROTATING = {"VA": ("R2", "ATH2", None, "TH2D"), "VG2": ("RG2", "ATH2", "ADEL2", "TH2D"),
+            "VB": ("R4", "ATH4", None, "TH4D"), "VG4": ("RG4", "ATH4", "ADEL4", "TH4D")}
+
+
+def _rotating_magnitude(r, w):
+    return np.abs(r * w)
+
+
+def _rotating_direction(r, line, w, adel=0.0):
+    """The velocity's direction, degrees in [0, 360); 0 where it is the zero vector (as
+    VECTOR): the line's angle plus 90 degrees for r w > 0, minus 90 for r w < 0."""
+    rw = np.asarray(r * w)
+    d = np.add(line, adel)
+    d = np.where(rw > 0.0, d + 90.0, d - 90.0)
+    d = np.mod(d, 360.0)
+    np.copyto(d, 0.0, where=d >= 360.0)  # -tiny mod 360 rounds to 360
+    np.copyto(d, 0.0, where=rw == 0.0)
+    np.copyto(d, np.nan, where=np.isnan(rw))  # where the loop cannot close
+    d += 0.0  # -0.0 -> +0.0
+    return d
+
+
 for _name in VECTORS:
     _xy = (_name + "X", _name + "Y")
+    if _name in ROTATING:
+        _r, _line, _adel, _w = ROTATING[_name]
+        _register(Step(f"_magnitude_{_name}", _rotating_magnitude, (_name,), (_r, _w)))
+        _register(Step(f"_direction_{_name}", _rotating_direction, ("D" + _name,),
+                       (_r, _line, _w) + ((_adel,) if _adel else ())))
+        continue
     _register(Step(f"_magnitude_{_name}", _magnitude, (_name,), _xy))
     _register(Step(f"_direction_{_name}", _direction, ("D" + _name,), _xy))
 
 
-del _name, _xy
+del _name, _xy, _r, _line, _adel, _w
 
 
 #: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``, ``TH2DD`` or ``th2dd_fn``).
