@@ -14,7 +14,7 @@ The energy fluctuation is ``energy = max E - min E``.  The speed is largest wher
 least, and ``I (wmax^2 - wmin^2) / 2 = energy``.  With ``w_avg = (wmax + wmin) / 2``
 and ``cf = (wmax - wmin) / w_avg`` this is exactly
 
-    inertia = energy / (cf * w_avg^2)                           (Norton's eq. 11.20)
+    inertia = energy / (cf * w_avg^2)
 
 with w_avg = TH2D.  As in the textbooks, TORQ is the torque at constant speed: the
 fluctuation it allows must be small (cf of a few per cent) for that to hold.
