@@ -247,3 +247,15 @@ def test_compile_errors_name_card_and_column():
         compile_source("      X=1.0\n      DO 10 I=1,5\n   10 CONTINUE\n      END\n",
                        sys.modules["sielaff.emulator.arithmetic"].get_arithmetic("float64"),
                        "<x>")
+
+
+def test_arguments_are_passed_by_reference():
+    """A FUNCTION or SUBROUTINE that changes its argument changes the caller's variable
+    (copy in, copy out); an expression argument is a value."""
+    text = ("      X=1.0\n      Y=F(X)\n      CALL S(X,Z)\n      W=F(X+1.0)\n"
+            "      WRITE(3,1)X,Y,Z,W\n    1 FORMAT(1X,4F6.1)\n      STOP\n      END\n"
+            "      FUNCTION F(A)\n      A=A+1.0\n      F=10.0*A\n      RETURN\n      END\n"
+            "      SUBROUTINE S(B,C)\n      B=B*2.0\n      C=B+0.5\n      RETURN\n      END\n")
+    deck = read_deck(ROOT / "decks" / "example.dat")
+    # X: 1 -> 2 (F) -> 4 (S); Y = 20; Z = 4.5; W = F(5) = 60, X unchanged by it
+    assert listing(text, deck, "float64") == "    4.0  20.0   4.5  60.0\n"

@@ -179,18 +179,21 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     port), or after each block of sheets (many at a time).
     """
     notice = notice or (lambda kind, text: None)
-    if arithmetic == "float64" and vectorised:
-        from sielaff.emulator import vector
-
-        if vector.applies(deck):
-            return vector.vector_run(deck, out.write, notice, _SheetWriter, kinematics_only,
-                                     max_sheets, progress, tex)
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
     emit = out.write if progress is None else _counting(out.write, progress)
     writer = _SheetWriter(emit, kinematics_only)
     quiet = _numpy_quiet(ar)  # float32 overflow is a ProgramError below, not a warning
+    vector = None
+    if arithmetic == "float64" and vectorised:
+        from sielaff.emulator import vector
+
+        if not vector.applies(deck):
+            vector = None
     try:
         with quiet:
+            if vector is not None:  # many sheets at a time; the port prints special ones
+                return vector.vector_run(deck, out.write, notice, _SheetWriter,
+                                         kinematics_only, max_sheets, progress, tex)
             sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets,
                                               tex)
     except NotCrankRocker:

@@ -65,12 +65,12 @@ class Program:
         env = self.env[name]
         for dummy, value in zip(unit.args, values):
             env[f"V_{dummy}"] = value
-        caller = self._caller
+        caller, caller_env = self._caller, self._caller_env
         self._execute(unit)
-        self._caller = caller
+        self._caller, self._caller_env = caller, caller_env
         for dummy, ref in zip(unit.args, refs):  # copy out, by reference
-            if ref is not None:
-                self._caller_env[f"V_{ref}"] = env[f"V_{dummy}"]
+            if ref is not None and f"V_{dummy}" in env:
+                caller_env[f"V_{ref}"] = env[f"V_{dummy}"]
         try:
             return env[f"V_{name}"]
         except KeyError:
