@@ -23,6 +23,10 @@ class PageLimit(Exception):
     would print more; ``args[0]`` is the count."""
 
 
+#: An output argument the caller has not set yet (VECTOR's VECT and DIRECT).
+_UNSET = object()
+
+
 class _Return(Exception):
     pass
 
@@ -48,8 +52,9 @@ class Program:
         ar = self.ar
         env = dict(unit.consts)
         env.update({"_num": ar.num, "_idiv": _idiv, "_pow": _pow, "_FLOAT": ar.num,
-                    "_IFIX": _ifix, "_INT": _ifix, "_IABS": abs, "_MOD": _mod,
-                    "_call": self._call_function})
+                    "_IFIX": _ifix, "_INT": _ifix, "_IABS": abs, "_MOD": _mod})
+        # a FUNCTION reference in this unit's code copies its results out into this unit
+        env["_call"] = lambda name, values, refs: self._function(name, values, refs, env)
         for name in LIBRARY:
             env[f"_lib_{name}"] = getattr(ar, name)
         return env
@@ -60,19 +65,27 @@ class Program:
         except _Stop:
             pass
 
-    def _call_function(self, name, values, refs):
+    def _enter(self, target: Unit, values, refs, caller_env: dict) -> dict:
+        """Call ``target``: copy in (``_UNSET`` for an output argument the caller has not
+        set), run, copy out into the caller's variables named by ``refs`` (by reference).
+        Returns the target's variables."""
+        tenv = self.env[target.name]
+        for dummy, value in zip(target.args, values):
+            if value is _UNSET:
+                tenv.pop(f"V_{dummy}", None)
+            else:
+                tenv[f"V_{dummy}"] = value
+        self._execute(target)
+        for dummy, ref in zip(target.args, refs):
+            if ref is not None and f"V_{dummy}" in tenv:
+                caller_env[f"V_{ref}"] = tenv[f"V_{dummy}"]
+        return tenv
+
+    def _function(self, name, values, refs, caller_env: dict):
         unit = self.units[name]
-        env = self.env[name]
-        for dummy, value in zip(unit.args, values):
-            env[f"V_{dummy}"] = value
-        caller, caller_env = self._caller, self._caller_env
-        self._execute(unit)
-        self._caller, self._caller_env = caller, caller_env
-        for dummy, ref in zip(unit.args, refs):  # copy out, by reference
-            if ref is not None and f"V_{dummy}" in env:
-                caller_env[f"V_{ref}"] = env[f"V_{dummy}"]
+        tenv = self._enter(unit, values, refs, caller_env)
         try:
-            return env[f"V_{name}"]
+            return tenv[f"V_{name}"]
         except KeyError:
             raise self._error(unit.statements[-1], f"FUNCTION {name} returns without "
                               "setting its value") from None
@@ -96,7 +109,6 @@ class Program:
         env = self.env[unit.name]
         code, labels = unit.code, unit.labels
         pc = 0
-        self._caller, self._caller_env = unit, env
         while True:
             st = code[pc]
             pc += 1
@@ -121,7 +133,6 @@ class Program:
                 if jump not in labels:  # compile_source checks every jump; a guard
                     raise self._error(st, f"no statement {jump} in this program unit")
                 pc = labels[jump]
-            self._caller, self._caller_env = unit, env
 
     def _one(self, unit: Unit, env: dict, st: Statement):
         kind = st.kind
@@ -156,17 +167,9 @@ class Program:
             return self._write(unit, env, st)
         if kind == "CALL":
             name, args = st.data
-            target = self.units[name]
-            tenv = self.env[name]
-            for dummy, (code, ref) in zip(target.args, args):
-                if ref is not None and f"V_{ref}" not in env:  # an output argument
-                    tenv.pop(f"V_{dummy}", None)
-                else:
-                    tenv[f"V_{dummy}"] = eval(code, env)  # noqa: S307
-            self._execute(target)
-            for dummy, (_, ref) in zip(target.args, args):
-                if ref is not None and f"V_{dummy}" in tenv:
-                    env[f"V_{ref}"] = tenv[f"V_{dummy}"]
+            values = [_UNSET if ref is not None and f"V_{ref}" not in env
+                      else eval(code, env) for code, ref in args]  # noqa: S307
+            self._enter(self.units[name], values, [ref for _, ref in args], env)
             return None
         raise self._error(st, f"cannot run {kind}")
 
