@@ -39,6 +39,14 @@ class AssemblyWarning(UserWarning):
     """Some positions of an ``analyze`` call cannot assemble: their results are NaN."""
 
 
+def _warn_not_assembled(count: int, total: int, stacklevel: int, mask: bool = True) -> None:
+    """The AssemblyWarning: how many of ``total`` positions cannot assemble."""
+    warnings.warn(f"{count} of {total} positions cannot assemble (the loop does not close "
+                  "there): their results are NaN"
+                  + ("; ask for the ASSEMBLED output for the mask" if mask else ""),
+                  AssemblyWarning, stacklevel=stacklevel)
+
+
 class Results(dict):
     """``analyze``'s answer: ``{name: array}``, and how many positions could not assemble.
 
@@ -229,10 +237,7 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     if not_assembled is not None:
         out.not_assembled = not_assembled
         if not_assembled:
-            total = int(np.prod(shape))
-            warnings.warn(f"{not_assembled} of {total} positions cannot assemble (the loop "
-                          "does not close there): their results are NaN; ask for the "
-                          "ASSEMBLED output for the mask", AssemblyWarning, stacklevel=2)
+            _warn_not_assembled(not_assembled, int(np.prod(shape)), stacklevel=3)
     seen: set[int] = set()
     for name in wanted:
         v = ns[name]
@@ -307,9 +312,7 @@ def _analyze_into(mechanism, ath2, out, block, tex, th2dd, gravity, loads, branc
     result = Results((name, out[name]) for name in wanted)
     result.not_assembled = missing
     if missing:
-        warnings.warn(f"{missing} of {n} positions cannot assemble (the loop does not close "
-                      "there): their results are NaN; ask for the ASSEMBLED output for the "
-                      "mask", AssemblyWarning, stacklevel=3)
+        _warn_not_assembled(missing, n, stacklevel=4)
     return result
 
 
@@ -337,8 +340,6 @@ def _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads, bran
             row = out[name]
         result[name] = row
     result.not_assembled = int(np.count_nonzero(np.isnan(table[index["GAMMA"]])))  # s34
-    if result.not_assembled:
-        warnings.warn(f"{result.not_assembled} of {th.size} positions cannot assemble (the "
-                      "loop does not close there): their results are NaN", AssemblyWarning,
-                      stacklevel=3)
+    if result.not_assembled:  # RESULTS only here: no ASSEMBLED output to point to
+        _warn_not_assembled(result.not_assembled, th.size, stacklevel=4, mask=False)
     return result
