@@ -183,17 +183,16 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     emit = out.write if progress is None else _counting(out.write, progress)
     writer = _SheetWriter(emit, kinematics_only)
     quiet = _numpy_quiet(ar)  # float32 overflow is a ProgramError below, not a warning
-    vector = None
+    counts = None
     if arithmetic == "float64" and vectorised:
         from sielaff.emulator import vector
 
-        if not vector.applies(deck):
-            vector = None
+        counts = vector.plan(deck)
     try:
         with quiet:
-            if vector is not None:  # many sheets at a time; the port prints special ones
+            if counts is not None:  # many sheets at a time; the port prints special ones
                 return vector.vector_run(deck, out.write, notice, _SheetWriter,
-                                         kinematics_only, max_sheets, progress, tex)
+                                         kinematics_only, max_sheets, progress, tex, counts)
             sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets,
                                               tex)
     except NotCrankRocker:

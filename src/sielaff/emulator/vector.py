@@ -58,7 +58,7 @@ from sielaff.emulator.program import (
 )
 from sielaff.emulator.ranges import sheet_count
 
-__all__ = ["CHUNK", "applies", "numpy_matches_libm", "vector_run"]
+__all__ = ["CHUNK", "applies", "numpy_matches_libm", "plan", "vector_run"]
 
 #: Sheets computed and written at a time.
 CHUNK = 2048
@@ -116,31 +116,36 @@ def numpy_matches_libm() -> bool:
     return _LIBM_CHECKED
 
 
-def applies(deck) -> bool:
-    """Whether this path can print ``deck``: numpy agrees with libm, the lengths pass the
-    crank-rocker test in float64 (else the port prints the refusal), and every range
-    card ends (a never-ending one is the port's, under ``--max-sheets``)."""
+def plan(deck) -> list[int] | None:
+    """The sheets each range card prints, if this path can print ``deck``; None if not:
+    numpy disagrees with libm, the lengths fail the crank-rocker test in float64 (the port
+    prints the refusal), a range card never ends (the port's, under ``--max-sheets``), or
+    the cards are too short for blocks to pay (MIN_SHEETS_PER_CARD)."""
     from sielaff.emulator.program import first_failed_test
 
     m = deck.mechanism
     R1, R2, R3, R4 = (float(x) for x in (m.R1, m.R2, m.R3, m.R4))
     try:
         if first_failed_test(R3 / R2, R4 / R2, R1 / R2, abs) is not None:
-            return False
+            return None
     except ArithmeticError:  # R2 = 0: the port names the statement dividing by it
-        return False
+        return None
     if not numpy_matches_libm():
-        return False
-    cards = len(deck.ranges)
-    total = 0
+        return None
+    counts = []
     for r in deck.ranges:
         n = sheet_count(*(float(x) for x in r))
         if n is None:
-            return False
-        total += n
+            return None
+        counts.append(n)
     # a block costs about a millisecond whatever its size: range cards of a few sheets
     # each are the port's (a sheet there costs some 40 microseconds)
-    return total >= MIN_SHEETS_PER_CARD * cards
+    return counts if sum(counts) >= MIN_SHEETS_PER_CARD * len(counts) else None
+
+
+def applies(deck) -> bool:
+    """Whether this path can print ``deck`` (see :func:`plan`)."""
+    return plan(deck) is not None
 
 
 # -- the arithmetic ----------------------------------------------------------
@@ -492,11 +497,13 @@ class _Listing:
 
 def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
                kinematics_only: bool = False, max_sheets: int | None = None,
-               progress: Callable[[int], None] | None = None, tex: float = 0.0) -> int:
+               progress: Callable[[int], None] | None = None, tex: float = 0.0,
+               counts: list[int] | None = None) -> int:
     """The listing of ``deck`` in float64 (see the module doc): sheets written through
     ``emit``; ``writer_factory(emit, kinematics_only)`` makes the port's WRITE for the
     sheets handed back.  The deck must pass the crank-rocker test and every range card
-    must end (the caller checks both).  Raises SheetLimit past ``max_sheets``."""
+    must end (the caller checks both); ``counts``, the sheets of each card, as
+    :func:`plan` gives them.  Raises SheetLimit past ``max_sheets``."""
     listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory)
     if not float(tex) == float(tex) or abs(float(tex)) >= 1e99:
         raise ValueError("tex must be finite (the caller checks it)")
@@ -504,7 +511,7 @@ def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
     cards = len(deck.ranges)
     for index in range(cards):
         THZERO, DELTA, THMAX = (float(x) for x in deck.ranges[index])
-        count = sheet_count(THZERO, DELTA, THMAX)
+        count = counts[index] if counts is not None else sheet_count(THZERO, DELTA, THMAX)
         TH = THZERO - DELTA
         for first in range(1, count + 1, CHUNK):
             stop = min(first + CHUNK, count + 1)
