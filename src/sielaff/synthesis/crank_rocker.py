@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sielaff.mechanism import Mechanism
+from sielaff.mechanism import BOUNDARY, Mechanism
 from sielaff.synthesis.common import branch_name, mechanism_from_lengths, side_of
 
 __all__ = ["CrankRocker", "CrankRockerFamily", "crank_rocker"]
@@ -271,13 +271,14 @@ def _member(swing, delta, Q, k, side, R4, th2d, units, masses=True) -> CrankRock
     s2 = side_of(a2[0], a2[1], R1, 0.0, b2[0], b2[1])
     if not (s1 * s2 > 0.0):
         return f"k = {k:g} ({side}): the two extreme positions lie on different branches"
-    from sielaff.engine import linkage_class
-
     bare = Mechanism(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, R1, R2, R3, R4, 0.0, 0.0, 0.0, 0.0, 0.0,
                      0.0, th2d, units)
-    kind = linkage_class(bare).kind
-    if kind != "crank-rocker":
-        return f"k = {k:g} ({side}): a {kind}, not a crank-rocker"
+    # Grashof with the crank shortest (linkage_class's test, its BOUNDARY margin; written
+    # out here because the search calls this thousands of times)
+    lng = max(R1, R3, R4)
+    margin = (R1 + R3 + R4 - lng) - (R2 + lng)
+    if not (R2 < min(R1, R3, R4) and margin > BOUNDARY * (R2 + lng)):
+        return f"k = {k:g} ({side}): not a crank-rocker (Grashof with the crank shortest)"
     t1 = math.degrees(math.atan2(a1[1], a1[0])) % 360.0
     t2 = math.degrees(math.atan2(a2[1], a2[0])) % 360.0
     r1 = math.degrees(math.atan2(b1[1], b1[0] - R1))
