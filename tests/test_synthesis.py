@@ -200,7 +200,7 @@ def test_crank_rocker_bad_problems_say_why_in_one_line(swing, Q, word):
 
 FUNCTIONS = [  # f, x range, input (start, span), output (start, span)
     ("log10", np.log10, (1.0, 2.0), (30.0, 60.0), (90.0, 60.0)),
-    ("x^1.5", lambda x: x ** 1.5, (1.0, 3.0), (120.0, 80.0), (240.0, 70.0)),
+    ("x^1.5", lambda x: x ** 1.5, (1.0, 3.0), (165.0, 90.0), (210.0, 60.0)),
     ("sin", np.sin, (0.0, 1.5), (20.0, 90.0), (80.0, 60.0)),
 ]
 

@@ -19,8 +19,8 @@ rocker) and a fixed pivot (O2, O4) the moving pivot circles about.  **The free c
 Left to ``None`` they are searched: moving pivots on a grid of 15 x 15 (three poses) or
 9 x 9 (two poses; with t in 7 steps) coupler points spanning 1.5 times the poses' extent
 on each side of P, every pair of dyads tried, and the pair kept that has no defect, whose
-crank turns fully (a Grashof crank-rocker or double-crank, so a motor can drive it), no
-link longer than 10 times the poses' extent, and the largest minimum transmission angle.
+crank turns fully (a Grashof crank-rocker or double-crank, so a motor can drive it), every
+link from 0.1 to 10 times the poses' extent, and the largest minimum transmission angle.
 
 The result places the engine's frame in the user's (O2 and the angle of O2->O4, see
 :class:`~sielaff.synthesis.common.Placement`), gives P as a coupler point (r from A,
@@ -56,7 +56,8 @@ __all__ = ["CouplerLinkage", "motion"]
 #: A circumcentre whose determinant is below this (relative to the scale^2) means the
 #: three positions are on one line (to roundoff).
 _COLLINEAR = 1e-12
-_MAX_LENGTH = 10.0  # the search keeps links up to this many times the poses' extent
+_MAX_LENGTH = 10.0  # the search keeps links from _MIN_LENGTH to _MAX_LENGTH times the
+_MIN_LENGTH = 0.1   # poses' extent (a tiny frame or crank makes a poor machine)
 
 
 @dataclass(frozen=True)
@@ -262,7 +263,7 @@ def _search(P, ext, fixed, direction, th2d, units) -> CouplerLinkage:
     R3 = np.hypot(*(pb[:, 0] - pa[:, 0]).T)
     R4 = np.hypot(*(pb[:, 0] - o4).T)
     L = np.stack([R1, R2, R3, R4])
-    fine = np.all(L > 1e-6 * ext, axis=0) & np.all(L < _MAX_LENGTH * ext, axis=0)
+    fine = np.all(L > _MIN_LENGTH * ext, axis=0) & np.all(L < _MAX_LENGTH * ext, axis=0)
     s, lng = L.min(axis=0), L.max(axis=0)
     grashof = (L.sum(axis=0) - 2.0 * (s + lng)) > 1e-9 * (s + lng)
     crank = grashof & ((R2 == s) | (R1 == s))  # crank-rocker or double-crank: link 2 turns
