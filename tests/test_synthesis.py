@@ -328,12 +328,14 @@ POSES3 = [
     [(1.0, 2.0, 90.0), (3.0, 2.5, 60.0), (4.0, 4.0, 10.0)],
     [(10.0, -5.0, -30.0), (12.0, -4.0, 0.0), (13.0, -1.0, 40.0)],
 ]
-POSES2 = [[(0.0, 0.0, 0.0), (2.0, 1.0, -30.0)], [(5.0, 5.0, 170.0), (4.0, 7.0, 120.0)]]
+POSES2 = [[(0.0, 0.0, 0.0), (2.0, 1.0, -30.0)], [(5.0, 5.0, 170.0), (4.0, 7.0, 120.0)],
+          [(1.0, 1.0, 0.0), (1.0, 1.0, 50.0)]]  # the last: P is the pole
 
 
 def check_poses(res, poses):
     P = np.asarray(poses, dtype=float)
-    ext = max(np.hypot(*(P[i, :2] - P[j, :2])) for i in range(len(P)) for j in range(i))
+    ext = max(np.hypot(*(P[i, :2] - P[j, :2])) for i in range(len(P)) for j in range(i)) \
+        or 1.0
     # by construction
     for (x, y, ang), th in zip(P, res.crank_angles):
         ux, uy, line = coupler_in_user(res, float(th))
@@ -506,6 +508,7 @@ BAD_MOTIONS = [
     ([(0, 0, 0), (1, 1, 10), (2, 0, 20), (3, 1, 5)], {}, "two or three"),
     ([(0, 0, 0), (0, 0, 0)], {}, "same pose"),
     ([(0, 0, 0), (0, 0, 30), (0, 0, 60)], {}, "rotations about one point"),
+    ([(0, 0, 0), (0, 0, 30)], {"moving": ((0, 0), (1, 0))}, "pole"),
     ([(0, 0, 0), (1, 0, 0), (2, 0, 0)], {"moving": ((0, 0), (0, 1))}, "line"),
     ([(0, 0, 0), (1, 1, 10), (2, 0, 20)], {"fixed": (1, 1)}, "fixed"),
     ([(0, 0, float("nan")), (1, 1, 10)], {}, "finite"),
@@ -645,3 +648,34 @@ def test_masses_bad_density():
     m = synthesis.crank_rocker(40.0, 1.3).best.mechanism
     with pytest.raises(ValueError, match="positive"):
         synthesis.masses(m, density=-1.0)
+
+
+def test_motion_pylinkage_motion_generation_agrees():
+    """pylinkage's own three-pose motion synthesis (Burmester dyads): each of its linkages,
+    given to ours as the same moving pivots, has the same fixed pivots and link lengths."""
+    pytest.importorskip("pylinkage")
+    from pylinkage.synthesis import Pose, motion_generation
+
+    poses = POSES3[0]
+    theirs = motion_generation([Pose(x, y, math.radians(a)) for x, y, a in poses])
+    assert len(theirs.raw_solutions) >= 3
+    x1, y1, a1 = poses[0]
+    c, s = math.cos(math.radians(a1)), math.sin(math.radians(a1))
+
+    def body(w):  # a world point at pose 1, in the coupler's frame
+        dx, dy = w[0] - x1, w[1] - y1
+        return (c * dx + s * dy, -s * dx + c * dy)
+
+    for sol in theirs.raw_solutions:
+        res = synthesis.motion(poses, moving=(body(sol.crank_pivot_b),
+                                              body(sol.coupler_pivot_c)))
+        m = res.mechanism
+        o4 = res.placement.to_user(m.R1, 0.0)
+        scale = max(sol.ground_length, sol.crank_length, sol.rocker_length)
+        assert math.dist((res.placement.x, res.placement.y), sol.ground_pivot_a) <= 1e-9 * scale
+        assert math.dist((float(o4[0]), float(o4[1])), sol.ground_pivot_d) <= 1e-9 * scale
+        assert np.allclose([m.R1, m.R2, m.R3, m.R4],
+                           [sol.ground_length, sol.crank_length, sol.coupler_length,
+                            sol.rocker_length], rtol=1e-9)
+        if not any("branch" in d for d in res.defects):
+            check_poses(res, poses)

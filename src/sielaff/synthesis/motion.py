@@ -18,7 +18,8 @@ rocker) and a fixed pivot (O2, O4) the moving pivot circles about.  **The free c
 
 Left to ``None`` they are searched: moving pivots on a grid of 15 x 15 (three poses) or
 9 x 9 (two poses; with t in 7 steps) coupler points spanning 1.5 times the poses' extent
-on each side of P, every pair of dyads tried, and the pair kept that has no defect, whose
+(the largest distance between two pose points; 1 length unit for two poses about one
+point) on each side of P, every pair of dyads tried, and the pair kept that has no defect, whose
 crank turns fully (a Grashof crank-rocker or double-crank, so a motor can drive it), every
 link from 0.1 to 10 times the poses' extent, and the largest minimum transmission angle.
 
@@ -110,6 +111,8 @@ def motion(poses: Sequence[Sequence[float]], *, moving: Sequence[Sequence[float]
     P = _poses(poses)
     n = len(P)
     ext = _extent(P)
+    if ext == 0.0:  # two poses turning about P: the bisectors all pass through P
+        ext = 1.0   # no length in the problem; the search spans 1.5 length units
     if fixed is not None and n != 2:
         raise ValueError("fixed: only two poses leave the fixed pivots free (three fix them)")
     if direction not in (None, 1, -1):
@@ -154,10 +157,12 @@ def _poses(poses) -> np.ndarray:
 
 
 def _extent(P: np.ndarray) -> float:
+    """The largest distance between two pose points; three poses about one point are
+    refused (every circle centre is that point, so the fixed pivots would coincide)."""
     d = max(float(np.hypot(*(P[i, :2] - P[j, :2]))) for i in range(len(P)) for j in range(i))
-    if d == 0.0:
-        raise ValueError("the poses are rotations about one point P: no four-bar's coupler "
-                         "does that (a single link about P does)")
+    if d == 0.0 and len(P) == 3:
+        raise ValueError("the three poses are rotations about one point P: every fixed "
+                         "pivot would be P, so no four-bar (a single link about P does it)")
     return d
 
 
@@ -196,14 +201,15 @@ def _centres(pos: np.ndarray, t: np.ndarray, ext: float) -> np.ndarray:
 
 def _linkage(P, dyads, q, t, direction, th2d, units) -> CouplerLinkage:
     (pa, o2), (pb, o4) = dyads
+    scale = _extent(P) or 1.0
     R1 = float(np.hypot(*(o4 - o2)))
-    if R1 <= 1e-12 * _extent(P):
+    if R1 <= 1e-12 * scale:
         raise ValueError("the two fixed pivots coincide: no four-bar (choose other moving "
                          "pivots)")
     R2 = float(np.hypot(*(pa[0] - o2)))
     R3 = float(np.hypot(*(pb[0] - pa[0])))
     R4 = float(np.hypot(*(pb[0] - o4)))
-    if min(R2, R3, R4) <= 1e-12 * _extent(P):
+    if min(R2, R3, R4) <= 1e-12 * scale:
         raise ValueError("a moving pivot lies on its fixed pivot or on the other moving "
                          "pivot: a link of zero length (choose other moving pivots)")
     phi = math.degrees(math.atan2(o4[1] - o2[1], o4[0] - o2[0]))
