@@ -1,8 +1,9 @@
 """Regenerate the worked examples of docs/synthesis.md (the block between its markers).
 
-    PYTHONPATH=src python docs/make_synthesis.py          # rewrite the block in place
+    PYTHONPATH=src python docs/make_synthesis.py          # rewrite the block, redraw
     PYTHONPATH=src python docs/make_synthesis.py --print  # show it, change nothing
 
+It also draws docs/img/synthesis.png (the examples; matplotlib).
 Every number in the block is computed here by sielaff.synthesis and checked by the engine
 (the poses and points met, the swing and time ratio found again) before it is printed.
 Numbers are printed to 5 significant digits (far from the roundoff of any platform); a
@@ -188,6 +189,77 @@ def path_example() -> list[str]:
             "properties, not these digits.)", ""]
 
 
+def figure(path: str) -> None:
+    """docs/img/synthesis.png: the four examples drawn (matplotlib, Agg)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 2, figsize=(11, 9.5))
+    # (a) the best crank-rocker at its two toggles
+    b = synthesis.crank_rocker(45.0, 1.25, rocker=10.0, th2d=10.0).best
+    m = b.mechanism
+    a = ax[0, 0]
+    for t, style in zip(b.toggles, ("-", "--")):
+        k = sielaff.point_motion(m, [t], 4, m.R4, branch=b.branch)
+        A = (m.R2 * np.cos(np.radians(t)), m.R2 * np.sin(np.radians(t)))
+        a.plot([0, A[0], k["X"][0], m.R1], [0, A[1], k["Y"][0], 0], "o" + style, color="C0")
+    th = np.linspace(0, 360, 721)
+    k = sielaff.point_motion(m, th, 4, m.R4, branch=b.branch)
+    a.plot(k["X"], k["Y"], color="C1", lw=3, alpha=0.5, label="B's arc (45 deg)")
+    a.plot(m.R2 * np.cos(np.radians(th)), m.R2 * np.sin(np.radians(th)), ":", color="C0")
+    a.set_title("crank-rocker, swing 45 deg, Q = 1.25: the best member\n"
+                "at its two toggles (solid: stretched, dashed: folded) [in]")
+    a.legend(loc="best")
+    # (b) structural error of the function generators
+    a = ax[0, 1]
+    for pts, lab in ((3, "3 Chebyshev points (exact there)"), (7, "7 points, least squares")):
+        gen = synthesis.function(np.log10, (1.0, 2.0), (30.0, 60.0), (90.0, 60.0), points=pts)
+        a.plot(gen.x, gen.structural_error, label=lab)
+        if pts == 3:
+            a.plot(gen.precision[0], 0 * gen.precision[0], "ko")
+    a.axhline(0, color="k", lw=0.5)
+    a.set_xlabel("x")
+    a.set_ylabel("THETA 4 generated - wanted [deg]")
+    a.set_title("function generator, y = log10 x: structural error")
+    a.legend(loc="best")
+    # (c) motion through three poses; (d) path through five points
+    poses = [(0.0, 0.0, 0.0), (1.0, 0.5, 20.0), (2.0, 0.3, 45.0)]
+    known = sielaff.EXAMPLE.replace(R1=4.0, R2=1.0, R3=3.5, R4=3.0)
+    k = sielaff.point_motion(known, [0.0, 40.0, 90.0, 150.0, 200.0], 3, 2.0, 30.0)
+    pts = [(round(float(x), 4), round(float(y), 4)) for x, y in zip(k["X"], k["Y"])]
+    for a, res, targets, title in (
+            (ax[1, 0], synthesis.motion(poses), poses, "motion: three poses (arrows)"),
+            (ax[1, 1], synthesis.path(pts), pts, "path: five points (crosses)")):
+        mm, pl, cp = res.mechanism, res.placement, res.coupler
+        th = np.linspace(0, 360, 721)
+        c = sielaff.point_motion(mm, th, 3, cp.r, cp.angle, branch=res.branch)
+        a.plot(*pl.to_user(c["X"], c["Y"]), color="C1", label="coupler curve")
+        for t in res.crank_angles:
+            kk = sielaff.point_motion(mm, [t], 3, cp.r, cp.angle, branch=res.branch)
+            kb = sielaff.point_motion(mm, [t], 4, mm.R4, branch=res.branch)
+            A = (mm.R2 * np.cos(np.radians(t)), mm.R2 * np.sin(np.radians(t)))
+            xs = [0, A[0], kb["X"][0], mm.R1]
+            ys = [0, A[1], kb["Y"][0], 0]
+            a.plot(*pl.to_user(xs, ys), "o-", color="C0", alpha=0.6)
+            a.fill(*pl.to_user([A[0], kb["X"][0], kk["X"][0]], [A[1], kb["Y"][0], kk["Y"][0]]),
+                   color="C0", alpha=0.15)
+        T = np.asarray(targets, dtype=float)
+        if T.shape[1] == 3:
+            a.quiver(T[:, 0], T[:, 1], np.cos(np.radians(T[:, 2])), np.sin(np.radians(T[:, 2])),
+                     color="C3", angles="xy", scale_units="xy", scale=2.0)
+        else:
+            a.plot(T[:, 0], T[:, 1], "x", color="C3", ms=10, mew=2)
+        a.set_title(title + " [in]")
+        a.legend(loc="best")
+    for a in (ax[0, 0], ax[1, 0], ax[1, 1]):
+        a.set_aspect("equal", adjustable="datalim")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def block() -> str:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -207,6 +279,11 @@ def main() -> None:
     with open(DOC, "w") as f:
         f.write(head + BEGIN + "\n" + text + END + tail)
     print(DOC)
+    png = os.path.join(ROOT, "docs", "img", "synthesis.png")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        figure(png)
+    print(png)
 
 
 if __name__ == "__main__":
