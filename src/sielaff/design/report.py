@@ -17,7 +17,7 @@ from sielaff.design.flywheel import Flywheel
 from sielaff.engine.analysis import analyze
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
-from sielaff.quantities import unit
+from sielaff.quantities import fmt, unit, unit_of
 
 __all__ = ["balance_lines", "bearing_lines", "compare", "flywheel_lines"]
 
@@ -34,15 +34,16 @@ def _num(value: float, scale: float, width: int = 11) -> str:
 
 
 def _energy_unit(system: str) -> str:
-    return "in-lb" if system == "in-lb-sec" else "J"
+    return unit_of("work", system)
 
 
-def _power(value: float, system: str) -> str:
+def power_text(value: float, system: str) -> str:
+    """A power [in-lb/sec or W] as printed (with horsepower beside in-lb/sec)."""
     if value == 0.0:
-        return "0 in-lb/sec" if system == "in-lb-sec" else "0 W"
+        return fmt(0, "power", system, ".0f")
     if system == "in-lb-sec":
-        return f"{value:.0f} in-lb/sec = {value / 6600.0:.3g} hp"
-    return f"{value:.0f} W"
+        return f"{fmt(value, 'power', system, '.0f')} = {value / 6600.0:.3g} hp"
+    return fmt(value, "power", system, ".0f")
 
 
 def flywheel_lines(fw: Flywheel, system: str) -> list[str]:
@@ -57,7 +58,7 @@ def flywheel_lines(fw: Flywheel, system: str) -> list[str]:
         f"    flywheel inertia          {float(fw.inertia):11.4g} {i} "
         f"(at the mean speed TH2D = {float(fw.th2d):g} {unit('TH2D', system)})",
         f"    motor's mean torque       {_num(mean, 1.0)} {t}, mean power "
-        + _power(mean * float(fw.th2d), system),
+        + power_text(mean * float(fw.th2d), system),
         f"    peak |TORQ| without it    {float(fw.peak_torque):11.4g} {t} (with it the motor "
         "gives the mean)",
     ]

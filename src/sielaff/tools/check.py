@@ -43,12 +43,13 @@ from decimal import Decimal
 
 import numpy as np
 
+from sielaff.design.report import power_text
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
 from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.mechanism import Mechanism, crank_rocker_failure
-from sielaff.quantities import unit
+from sielaff.quantities import fmt, unit, unit_of
 from sielaff.tools.common import describe_scene, work_text
 
 __all__ = [
@@ -274,7 +275,8 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
     rep.add("Linkage")
     links = sorted(("R1", "R2", "R3", "R4"), key=lambda n: getattr(m, n))
     s, p, q, lng = (getattr(m, n) for n in links)
-    rep.add("  lengths: " + ", ".join(f"{LINK_NAMES[n]} {n} = {_plain(getattr(m, n))} in"
+    L = unit_of("length", m.units)  # noqa: N806
+    rep.add("  lengths: " + ", ".join(f"{LINK_NAMES[n]} {n} = {_plain(getattr(m, n))} {L}"
                                       for n in ("R1", "R2", "R3", "R4")))
     sl, pq = s + lng, p + q
     if sl < pq:
@@ -283,8 +285,8 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
         verdict, cmp = "not Grashof: no link turns fully (a triple rocker)", ">"
     else:
         verdict, cmp = "a change-point linkage: all four links can line up", "="
-    rep.add(f"  Grashof sum: s + l = {_plain(s)} + {_plain(lng)} = {_plain(sl)} in {cmp} "
-            f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} in (margin {_plain(pq - sl)} in)")
+    rep.add(f"  Grashof sum: s + l = {_plain(s)} + {_plain(lng)} = {_plain(sl)} {L} {cmp} "
+            f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} {L} (margin {_plain(pq - sl)} {L})")
     rep.add(f"    {verdict}")
     shortest = [n for n in links if getattr(m, n) == s]
     names = " and ".join(f"{LINK_NAMES[n]} {n}" for n in shortest)
@@ -293,9 +295,9 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
               "double-rocker": "a double rocker", "rocker-crank":
               "a rocker-crank (link 4 turns fully)"}.get(c.kind)
     if phrase and len(shortest) == 1:
-        rep.add(f"  shortest link: {names} = {_plain(s)} in, so {phrase}")
+        rep.add(f"  shortest link: {names} = {_plain(s)} {L}, so {phrase}")
     else:
-        rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} in")
+        rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} {L}")
     if c.kind != "crank-rocker":
         rep.add(f"  kind: {c.kind} (link 2 the input, link 1 the frame; sielaff.linkage_class)")
         for a, b in ([] if c.turns_fully else c.arcs):
@@ -372,20 +374,17 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
     rep.add("  driving torque TORQ:")
     rep.add(f"    largest       {t_max:9.1f} {U['in-lb']} at THETA 2 = {at_max:5.1f} deg")
     rep.add(f"    most negative {t_min:9.1f} {U['in-lb']} at THETA 2 = {at_min:5.1f} deg")
-    power = peak * abs(m.TH2D)
-    if U["lb"] == "lb":
-        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} in-lb/sec = {power / 6600.0:.3g} hp")
-    else:
-        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} W")
+    rep.add(f"    peak power |TORQ| TH2D = {power_text(peak * abs(m.TH2D), system)}")
     work, abs_work = cycle_work(m, scene=scene)
     ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
     rep.add("  cycle work, integral of TORQ d(THETA 2) over a revolution: "
-            + work_text(work, abs_work))
+            + work_text(work, abs_work, system))
     if effects:
-        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): the work the scene's "
+        rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): the work "
+                "the scene's "
                 "loads and crank acceleration take (gravity's is zero)")
     else:
-        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): "
+        rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): "
                 + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
     at, shak = _extreme(m, "SHAK", scene=scene)
     _, sx = _extreme(m, "SHAKX", scene=scene)

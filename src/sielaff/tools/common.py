@@ -267,13 +267,15 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
 
 
-def work_text(work: float, abs_work: float) -> str:
+def work_text(work: float, abs_work: float, units: str = "in-lb-sec") -> str:
     """The cycle work as a reader should see it: roundoff is shown as zero, with its bound,
     so the text does not depend on the last bits of a CPU's libm."""
+    from sielaff.quantities import fmt, unit_of
+
     bound = 1e-12 * max(abs_work, 1.0)
     if abs(work) <= bound:
-        return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
-    return f"{work:.3g} in-lb"
+        return f"0 {unit_of('work', units)} to roundoff (|W| < {fmt(bound, 'work', units, '.0e')})"
+    return fmt(work, "work", units, ".3g")
 
 
 def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
