@@ -53,7 +53,8 @@ sys.exit(status)
 def test_the_regex_finds_report_units():
     """The detector itself: it finds each report unit and passes SI text and English."""
     for bad in ("R1 = 12.0 in", "peak 87.5 lb at", "TORQ (in-lb)", "speed (in/sec)",
-                "TORQ[in-lb]", "0.4 in-lb-sec^2", "R4[in]", "force magnitude in lb", "margin 4.0 in)", "= 12 in, crank"):
+                "TORQ[in-lb]", "0.4 in-lb-sec^2", "R4[in]", "force magnitude in lb",
+                "margin 4.0 in)", "= 12 in, crank"):
         assert REPORT_UNIT.search(bad), bad
     for good in ("R1 = 0.3 m", "87.5 N", "TORQ (N m)", "quirks this deck triggers in sielaff",
                  "in degrees", "speed (m/s)", "(0 in the 1966 program)", "drawn in SI", "R4[m]"):

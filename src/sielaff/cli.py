@@ -204,6 +204,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("table", "the modern engine's results for a deck, one row per "
             "position from THZERO to THMAX (CSV or JSON)")
     p.add_argument("deck")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("--format", choices=("csv", "json"), default="csv",
                    help="csv (default; a header row) or json ({columns, rows})")
     p.add_argument("--only", choices=("kinematics",),
@@ -230,6 +233,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("check", "report on a deck: values, Grashof and crank-rocker margins, "
             "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
     p.add_argument("deck")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
+    p.add_argument("--crank-rocker", action="store_true",
+                   help="require a crank-rocker (the 1966 program's test): exit 3 if not")
 
     p = add("plot", "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
             "diagrams of the other two bearings (the report's 15 and 17, captions lost), "
@@ -251,8 +259,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--point", type=point_spec, action="append", default=[],
                    metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "
                    "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")
-    p.add_argument("--branch", choices=("open", "crossed"), default="open",
-                   help="with --linkage: the assembly drawn (open: the 1966 program's)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("--bearings", action="store_true",
                    help="the load on each member at each pin, relative to the member, with "
                         "the arcs never loaded shaded (bearings.png)")
@@ -266,6 +275,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the crank's counterweight this far from O2 (default R2)")
     p.add_argument("--radius4", type=positive_length, metavar="R",
                    help="the rocker's counterweight this far from O4 (default R4)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="also write the balanced design: a spec if FILE ends .toml, else a "
                         "deck (atomically)")
@@ -283,6 +295,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
                         "(e.g. tcp://host:8786)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")

@@ -99,15 +99,30 @@ ROWS = (
 
 def compare(before: Mechanism, after: Mechanism, n: int = 3600, *,
             scene: Scene | None = None) -> list[tuple[str, str, float, float]]:
-    """(label, unit, before, after) for :data:`ROWS` over one revolution."""
-    th = np.arange(n) * (360.0 / n)
+    """(label, unit, before, after) for :data:`ROWS` over one revolution, or over the arcs
+    where the linkage assembles when its crank cannot turn fully (the toggles, where the
+    rates are infinite, left out)."""
+    import warnings
+
+    from sielaff.engine.analysis import AssemblyWarning
+    from sielaff.engine.classify import linkage_class
+    from sielaff.engine.positions import reachable
+
+    whole = bool(linkage_class(before).turns_fully)
+    th = np.arange(n) * (360.0 / n) if whole else reachable(before, n)
     names = sorted({r[1] for r in ROWS})
-    a, b = analyze(before, th, names, scene=scene), analyze(after, th, names, scene=scene)
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        a, b = analyze(before, th, names, scene=scene), analyze(after, th, names, scene=scene)
+    ok = np.ones(th.shape, bool)
+    for r in (a, b):
+        for name in names:
+            ok &= np.isfinite(r[name])
     out = []
     for label, name, how in ROWS:
         vals = []
         for r in (a, b):
-            v = r[name]
+            v = r[name][ok]
             vals.append(float(np.max(v)) if how == "max" else float(np.max(np.abs(v)))
                         if how == "maxabs" else float(np.sqrt(np.mean(v * v))))
         out.append((label, unit(name, before.units), vals[0], vals[1]))
@@ -129,7 +144,15 @@ def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
         out.append(f"    {k:5} {float(getattr(before, k)):11.5g} -> "
                    f"{float(getattr(after, k)):11.5g} {unit(k, system)}")
     out.append("")
-    out.append("Before and after, over one revolution (modern engine)")
+    from sielaff.engine.classify import linkage_class
+
+    if linkage_class(before).turns_fully:
+        out.append("Before and after, over one revolution (modern engine)")
+    else:
+        out.append("Before and after, over the crank angles where the linkage assembles "
+                   "(modern engine)")
+        out.append("  (toggles included: a crank kept at constant speed drives link 4 into a "
+                   "toggle, where the rates and loads grow without bound)")
     out.append(f"  {'':24} {'before':>11} {'after':>11}")
     for label, u, b, a in compare(before, after, scene=scene):
         out.append(f"  {label:24} {_num(b, b)} {_num(a, b)} {u}")

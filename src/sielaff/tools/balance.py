@@ -42,7 +42,8 @@ def cmd_balance(args) -> int:
     refuse_overwriting_inputs(args.output, [path])
     if args.output and os.path.isdir(args.output):
         raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
-    deck, scene = load_scene(path, ["SHAK"])
+    deck, scene = load_scene(path, ["SHAK"], branch=getattr(args, "branch", None),
+                             any_kind=True)
     m = deck.mechanism
     try:
         balanced = balance(m, args.radius2, args.radius4)
@@ -84,8 +85,10 @@ def _written_line(path: str, as_spec: bool, m, exact, written, scene) -> str:
     from sielaff.quantities import fmt
 
     th = np.arange(3600) * 0.1
-    peak = {name: float(np.max(analyze(d, th, ["SHAK"], scene=scene)["SHAK"]))
-            for name, d in (("before", m), ("exact", exact), ("written", written))}
+    with np.errstate(all="ignore"):  # a linkage that cannot turn fully: where it assembles
+        peak = {name: float(np.nanmax(np.where(np.isfinite(v), v, np.nan)))
+                for name, d in (("before", m), ("exact", exact), ("written", written))
+                for v in [analyze(d, th, ["SHAK"], scene=scene)["SHAK"]]}
     f = "SHAK"
     if as_spec:
         head = f"Written to {path} with every value as computed (full precision)"

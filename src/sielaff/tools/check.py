@@ -47,7 +47,7 @@ from sielaff.design.report import power_text
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
-from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism, crank_rocker_failure
 from sielaff.quantities import fmt, unit, unit_of
 from sielaff.tools.common import describe_scene, work_text
@@ -515,9 +515,41 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
     return reason
 
 
+def _kind_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
+    """A linkage whose crank cannot turn fully: its toggles, the arcs it swings over, the
+    limit positions there, and the transmission angle over those arcs."""
+    import warnings
+
+    from sielaff.engine import analyze
+    from sielaff.engine.analysis import AssemblyWarning
+    from sielaff.engine.positions import reachable
+
+    scene = scene or Scene()
+    c = linkage_class(m)
+    rep.add(f"Over the arcs where it assembles (modern engine, the {scene.branch} branch)")
+    toggles = [float(t) for t in np.ravel(c.toggles) if np.isfinite(t)]
+    rep.add("  toggles (coupler and rocker in line) at THETA 2 = "
+            + ", ".join(f"{t:.2f}" for t in toggles) + " deg")
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        r = analyze(m, np.array(toggles), ["ATH3", "ATH4"], scene=scene)
+        for t, th3, th4 in zip(toggles, r["ATH3"], r["ATH4"]):
+            rep.add(f"    limit position at THETA 2 = {t:7.2f} deg: THETA 3 = {th3:7.2f} deg, "
+                    f"THETA 4 = {th4:7.2f} deg")
+        th = reachable(m, 3601)
+        g = analyze(m, th, ["GAMMA"], scene=scene)["GAMMA"]
+    g = g[np.isfinite(g)]
+    if g.size:
+        rep.add(f"  transmission angle GAMMA over the arcs: {g.min():.2f} to {g.max():.2f} deg "
+                "(0 or 180 at a toggle)")
+    rep.add("  loads: a crank kept at constant speed drives link 4 into each toggle, where the "
+            "rates and loads grow without bound; sielaff table and plot show them over the arcs")
+
+
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
-               scene: Scene | None = None) -> CheckReport:
-    """The report for ``deck`` (see the module doc)."""
+               scene: Scene | None = None, crank_rocker: bool = False) -> CheckReport:
+    """The report for ``deck`` (see the module doc).  A usable linkage of another kind
+    gets its kind's report and status 0, unless ``crank_rocker`` requires one (3)."""
     from sielaff.tools.common import mechanism_problem, results_problem
 
     rep = CheckReport()
@@ -536,7 +568,11 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
     failure = _linkage_section(deck.mechanism, rep, deck.exact)
     rep.add()
     overflow = None
-    if failure is None:
+    other = failure is not None and not crank_rocker and linkage_class(deck.mechanism).arcs
+    if other and not linkage_class(deck.mechanism).turns_fully:
+        _kind_section(deck.mechanism, rep, scene)
+        rep.add()
+    if failure is None or (other and linkage_class(deck.mechanism).turns_fully):
         overflow = results_problem(deck, None, scene)
         if overflow is None:
             _revolution_section(deck.mechanism, rep, scene)
@@ -544,7 +580,16 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
-    if failure is not None:
+    if other and overflow is None:
+        kind = linkage_class(deck.mechanism).kind
+        rep.add(f"Verdict: usable as a {kind} in the modern tools (check, table, plot, balance, "
+                "sweep); not a crank-rocker, so sielaff run stops at statement 52 as the 1966 "
+                "program does (exit 3 there, and here with --crank-rocker)")
+    elif failure is not None and not other and not crank_rocker:
+        rep.status = EXIT_UNUSABLE
+        rep.error = f"{deck.path}: card 3: the loop never closes: no crank angle assembles it"
+        rep.add("Verdict: unusable: no crank angle assembles this linkage (exit 2)")
+    elif failure is not None:
         rep.status = EXIT_NOT_CRANK_ROCKER
         rep.error = str(problem)
         if _program_test_passes(deck.mechanism):
@@ -588,9 +633,13 @@ def cmd_check(args) -> int:
         raise CommandError(f"{args.deck}: no such deck")
     if args.deck.endswith(".toml"):  # a spec: its deck, and its scene for the engine
         deck, scene = read_spec_deck(args.deck)
-        rep = check_deck(deck, scene=scene)
     else:
-        rep = check_deck(read_deck(args.deck))
+        deck, scene = read_deck(args.deck), Scene()
+    if getattr(args, "branch", None):
+        import dataclasses
+
+        scene = dataclasses.replace(scene, branch=args.branch)
+    rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False))
     write_stdout(rep.text)  # a closed pipe keeps the status and the error line
     if rep.error:
         print(rep.error, file=sys.stderr)

@@ -206,25 +206,68 @@ def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
 
 
-def load_scene(path: str, outputs=None, any_linkage: bool = False) -> tuple[Deck, Scene]:
+def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
+               any_kind: bool = False) -> tuple[Deck, Scene]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
     (the deck, its Scene).  Checked as ``load_for_engine``
     says, with the scene's effects in the results; with ``any_linkage`` any four-bar
-    whose fields can exist (the crank-rocker test and the ranges do not apply)."""
+    whose fields can exist (the crank-rocker test and the ranges do not apply).
+    ``branch`` ("open" or "crossed") overrides the spec's ``[scene] branch``.  With
+    ``any_kind`` every Grashof kind and a triple rocker are taken, not only a
+    crank-rocker: a linkage whose crank cannot turn fully is worked over the arcs where
+    it assembles, and stderr says which (:func:`kind_note`)."""
+    import dataclasses
+
     if path.endswith(".toml"):
         deck, scene = read_spec_deck(path)
     else:
         deck, scene = load_deck(path), no_scene()
+    if branch is not None:
+        scene = dataclasses.replace(scene, branch=branch)
     if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
         problem = mechanism_problem(deck)
         if problem is not None and problem.status == EXIT_DECK:
             raise problem
         return deck, scene
-    problem = (mechanism_problem(deck) or range_problem(deck)
+    problem = mechanism_problem(deck)
+    if any_kind and problem is not None and problem.status == EXIT_NOT_CRANK_ROCKER:
+        note = kind_note(deck)
+        if note is None:
+            raise CommandError(f"{deck.path}: card 3: the loop never closes: no crank angle "
+                               "assembles this linkage")
+        print(f"sielaff: {note}", file=sys.stderr)
+        from sielaff.engine.classify import linkage_class
+
+        if not linkage_class(deck.mechanism).turns_fully:
+            import warnings
+
+            from sielaff.engine.analysis import AssemblyWarning
+
+            # the note above says where it assembles: no warning per sampled position
+            warnings.filterwarnings("ignore", category=AssemblyWarning)
+            return deck, scene  # the rates are infinite at the toggles: nothing to bound
+        problem = None
+    problem = (problem or range_problem(deck)
                or results_problem(deck, outputs, scene))
     if problem is not None:
         raise problem
     return deck, scene
+
+
+def kind_note(deck: Deck) -> str | None:
+    """One line for a linkage that is not a crank-rocker: its kind and the arcs of THETA 2
+    worked over; None if no crank angle assembles it."""
+    from sielaff.engine.classify import linkage_class
+
+    c = linkage_class(deck.mechanism)
+    if not c.arcs:
+        return None
+    if c.turns_fully:
+        return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 turns fully "
+                "(sielaff run refuses it, as the 1966 program does)")
+    arcs = ", ".join(f"{a:.2f} to {b:.2f}" for a, b in c.arcs)
+    return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 swings between toggles "
+            f"over THETA 2 = {arcs} deg; positions outside are left out")
 
 
 def not_a_crank_rocker(deck: Deck) -> str | None:

@@ -252,8 +252,9 @@ def _where(path: str, name: str) -> str:
 
 def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str:
     """The deck (text, one 80-column card a line) for a parsed spec.  A spec in SI is
-    refused (a 1966 deck is in in-lb-sec) unless ``any_units``: the modern tools read
-    the values through the deck and keep the spec's unit system beside it."""
+    refused (a 1966 deck is in in-lb-sec), and so is a linkage that is not a
+    crank-rocker, unless ``any_units``: the modern tools read the values through the deck,
+    keep the spec's unit system beside it and judge the linkage's kind themselves."""
     values, ranges, prefix = spec_values(spec, path)
     scene = spec.get("scene")
     if not any_units and isinstance(scene, dict) and scene.get("units", "in-lb-sec") != \
@@ -277,7 +278,7 @@ def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str
         range_fields.append(row)
     mechanism = Mechanism(**{n: float(values[n]) + 0.0 for n in FIELD_NAMES})
     failure = crank_rocker_failure(mechanism)
-    if failure:
+    if failure and not any_units:  # the modern tools take every kind (they test it)
         raise PunchError(f"{path}: [lengths]: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
                          EXIT_NOT_CRANK_ROCKER)
     for n, (start, step, stop) in enumerate(ranges, 1):

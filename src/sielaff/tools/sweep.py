@@ -87,6 +87,10 @@ def cmd_sweep(args) -> int:
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: sweep reads a TOML spec with a [sweep] table")
     deck, scene = read_spec_deck(path)
+    if getattr(args, "branch", None):
+        import dataclasses
+
+        scene = dataclasses.replace(scene, branch=args.branch)
     try:
         sweep = sweep_of(read_spec(path), path)
     except PunchError as exc:

@@ -534,7 +534,8 @@ def cmd_plot(args) -> int:
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
-    deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate)
+    deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate,
+                             branch=args.branch, any_kind=True)
     if args.bearings:
         from sielaff.tools.plot.bearings import write_bearings
 
@@ -545,7 +546,7 @@ def cmd_plot(args) -> int:
     elif args.linkage or args.animate:
         from sielaff.tools.plot.linkage import write_linkage
 
-        paths = write_linkage(deck, args.output, args.at, args.point, args.branch,
+        paths = write_linkage(deck, args.output, args.at, args.point, scene.branch,
                               args.animate)
     else:
         paths = write_plots(deck, args.output, args.only, scene)
