@@ -64,7 +64,9 @@ def cmd_run(args: argparse.Namespace) -> int:
 def _run_program(args: argparse.Namespace, deck) -> int:
     """``sielaff run --program SOURCE DECK``: the program deck itself, interpreted."""
     from sielaff.emulator.fortran import FortranError, PageLimit, run_program
+    from sielaff.emulator.fortran.source import SOURCE_LIMIT
     from sielaff.emulator.printer import AsaRenderer
+    from sielaff.emulator.program import NotCrankRocker
     from sielaff.emulator.run import notice_printer
     from sielaff.tools.output import atomic_output
 
@@ -76,7 +78,7 @@ def _run_program(args: argparse.Namespace, deck) -> int:
                            "the edit on its cards (decks/edits/ has the report's three)")
     try:
         with open(args.program, encoding="ascii", errors="strict") as f:
-            source = f.read(1_000_000)
+            source = f.read(SOURCE_LIMIT + 1)  # one more: a longer deck is refused whole
     except (OSError, UnicodeDecodeError) as exc:
         why = getattr(exc, "strerror", None) or "not an ASCII card deck"
         raise CommandError(f"{args.program}: cannot read the program deck ({why})") from None
@@ -90,6 +92,13 @@ def _run_program(args: argparse.Namespace, deck) -> int:
                   "the deck asks for more", file=sys.stderr)
         except FortranError as exc:
             raise CommandError(str(exc)) from None
+        except NotCrankRocker:
+            # As ``run``: the listing holds the 1966 message, an -o file is left as it was.
+            if args.render:
+                stream.close()
+            raise CommandError(not_a_crank_rocker(deck) or f"{deck.path}: card 3: THIS IS "
+                               "NOT A CRANK ROCKER MECHANISM (the program says so)",
+                               EXIT_NOT_CRANK_ROCKER) from None
         if args.render:
             stream.close()
     return 0
