@@ -41,6 +41,10 @@ class FormatError(ValueError):
 #: record is longer, counting every field, is refused, which also bounds its repeat
 #: counts, widths and decimals.
 RECORD_LIMIT = 133
+#: Records between two page ejects that a listing may hold (a 1966 sheet has 59): the
+#: interpreter stops a program printing more, and the listing reader refuses a file
+#: with more (a stream of blank lines that never ends).
+RECORDS_PER_SHEET = 1_000
 
 
 def decimal_parts(value) -> tuple[bool, str, int] | None:

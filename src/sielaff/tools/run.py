@@ -107,7 +107,13 @@ def _run_program(args: argparse.Namespace, deck) -> int:
 def cmd_diff(args: argparse.Namespace) -> int:
     import contextlib
 
-    from sielaff.emulator.listing import ListingError, asa_records, diff_sheets, iter_sheets
+    from sielaff.emulator.listing import (
+        ListingError,
+        asa_records,
+        diff_sheets,
+        iter_sheets,
+        listing_lines,
+    )
 
     class Named:
         """A listing file's sheets, read as they are needed; errors name the file."""
@@ -118,7 +124,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
                 f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
             except OSError as exc:
                 raise CommandError(f"{path}: cannot read the listing ({exc.strerror})") from exc
-            self.sheets = iter_sheets(asa_records(_bounded_lines(f)))
+            self.sheets = iter_sheets(asa_records(listing_lines(f)))
 
         def __iter__(self):
             try:
@@ -142,21 +148,3 @@ def cmd_diff(args: argparse.Namespace) -> int:
             raise CommandError(f"{args.golden}: no sheet in the golden listing (empty, or not "
                                "a listing): nothing to compare")
     return status
-
-
-def _bounded_lines(f, limit: int = 1 << 16):
-    """The lines of ``f``, each cut at ``limit`` characters (the rest of a longer line is
-    read and dropped, a block at a time): a listing line is 133 characters, and a file with
-    no line ends must not be read into memory whole."""
-    while True:
-        line = f.readline(limit)
-        if not line:
-            return
-        if len(line) == limit and not line.endswith("\n"):
-            while True:
-                more = f.readline(limit)
-                if not more or more.endswith("\n"):
-                    break
-        yield line
-
-

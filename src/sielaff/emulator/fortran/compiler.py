@@ -232,6 +232,18 @@ _HEAD = re.compile(r"(FUNCTION|SUBROUTINE)([A-Z][A-Z0-9]*)(\(([A-Z0-9,]*)\))?$")
 _CALL = re.compile(r"CALL([A-Z][A-Z0-9]*)(\((.*)\))?$")
 
 
+def numpy_quiet(ar):
+    """numpy's floating-point warnings off for float32 (numpy scalars): an overflow is an
+    inf that stops the run where it is printed, as in float64, never a warning line."""
+    import contextlib
+
+    if getattr(ar, "name", "") != "float32":
+        return contextlib.nullcontext()
+    import numpy as np
+
+    return np.errstate(all="ignore")
+
+
 def _code(st: Statement, src: str, mode: str):
     """``src`` compiled; what Python cannot compile is a statement the subset cannot hold."""
     try:
@@ -279,7 +291,8 @@ class _Compiler:
                 exact = Decimal(text)
                 if exact and not _SMALLEST <= abs(exact) < _OVERFLOW:
                     raise ArithmeticError
-                value = self.ar.num(text)
+                with numpy_quiet(self.ar):  # float32: past its range is inf, as on a card
+                    value = self.ar.num(text)
             except (ArithmeticError, ArithmeticError1410, ValueError):
                 raise FortranError(f"{st.where(at)}: constant {text} is past the IBM 1410's "
                                    "range (1E-100 <= |x| < 1E99, or 0)") from None

@@ -3,12 +3,11 @@ calls by reference, READ through the card reader, WRITE through the 1410 printer
 
 from __future__ import annotations
 
-import contextlib
 import math
 from collections.abc import Callable
 
 from sielaff.emulator.arithmetic import ArithmeticError1410
-from sielaff.emulator.fortran.compiler import compile_source
+from sielaff.emulator.fortran.compiler import compile_source, numpy_quiet
 from sielaff.emulator.fortran.source import (
     INTEGER_DIGITS,
     INTEGER_LIMIT,
@@ -91,12 +90,7 @@ class Program:
     def run(self) -> None:
         """Run the main program; raises NotCrankRocker after it if the program printed the
         1966 message (as the port does)."""
-        quiet = contextlib.nullcontext()
-        if getattr(self.ar, "name", "") == "float32":  # as the port: no numpy warnings;
-            import numpy as np  # a division by zero stops as in float64 (_rdiv)
-
-            quiet = np.errstate(all="ignore")
-        with quiet:
+        with numpy_quiet(self.ar):  # float32: a division by zero stops as float64 (_rdiv)
             try:
                 self._execute(self.units["MAIN"])
             except _Stop:
@@ -114,8 +108,8 @@ class Program:
         self.quiet += n
         self.executed += n
         if self.quiet > STATEMENT_BUDGET or self.executed > self.statement_ceiling:
-            raise ArithmeticError(f"** {n:,} needs {n:,} multiplications, past the "
-                                  "interpreter's budget of statements (docs/interpreter.md)")
+            raise ArithmeticError(f"**{n}: {n:,} multiplications, past the interpreter's "
+                                  "budget of statements (docs/interpreter.md)")
         result = None
         check = isinstance(a, int)
         for _ in range(n):

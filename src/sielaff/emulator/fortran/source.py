@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from sielaff.emulator.printer import RECORDS_PER_SHEET as _RECORDS_PER_SHEET
 from sielaff.emulator.printer import Format
 
 LIBRARY = ("SIN", "COS", "ATAN", "SQRT", "ABS")
@@ -22,8 +23,8 @@ STATEMENTS_PER_SHEET = 1_000_000
 #: deck's range cards ask for, plus as many again (an edit may print more than one page a
 #: crank angle, or a page of its own).
 SHEETS_PER_DECK_SHEET = 10
-#: Records (lines) printed between two page ejects; a 1966 sheet has 59.
-RECORDS_PER_SHEET = 1_000
+#: Records (lines) printed between two page ejects: ``printer.RECORDS_PER_SHEET``.
+RECORDS_PER_SHEET = _RECORDS_PER_SHEET
 #: An integer holds at most this many decimal digits (the 1410's integer size is not in
 #: the sources at hand: this is the interpreter's, far past the port's sheet count).
 INTEGER_DIGITS = 20
