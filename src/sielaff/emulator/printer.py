@@ -374,7 +374,7 @@ def compile_format(text: str) -> list[tuple]:
             n = count(nh)
             if pos + n > len(body):
                 raise FormatError(f"Hollerith field runs past the end of {text!r}")
-            grow(n, m.group().strip())
+            grow(n, m.group().strip() + body[pos:pos + n])
             items.append(("lit", body[pos:pos + n]))
             pos += n
         elif slash:

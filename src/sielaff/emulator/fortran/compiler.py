@@ -82,8 +82,9 @@ class _Expr:
         at = self.at()
         a, t = parse()
         if t != "L":
+            side = "after it" if what == ".NOT." else "on each side"
             raise FortranError(f"{self.st.where(at)}: {what} needs a relation (.GT. .LT. "
-                               "...) on each side")
+                               f"...) {side}")
         return a
 
     def value(self, parse):
