@@ -512,6 +512,10 @@ def compile_source(text: str, ar, path: str = "<program>") -> dict[str, Unit]:
             current.head = st
             heads.append(st)
             continue
+        if current.statements and current.statements[-1].text == "END":
+            raise FortranError(f"{path}: {st.where()}: a statement after the END on card "
+                               f"{current.statements[-1].card}, in no program unit (a "
+                               "FUNCTION or SUBROUTINE card begins the next one)")
         current.statements.append(st)
     if current.statements:
         _add_unit(units, current, path)
