@@ -19,7 +19,9 @@ Blank lines
     file: lines that are empty or hold only blanks after the last non-blank
     card are not cards (the file's trailing newline, editor padding).
     Dropping a line of blanks there adds a warning; dropping an empty line
-    does not.
+    does not.  A run of blank lines is counted, not kept, and a deck holds at
+    most ``MAX_RANGE_CARDS`` range cards: a longer one (blank lines count until
+    the deck ends, so a pipe of endless blank lines too) is one DeckError.
 
 Fw.d input (``read_field``), as the FORTRAN input routines of the period
     * Leading blanks are ignored; every other blank in the field reads as
