@@ -296,6 +296,19 @@ def test_08_a_source_past_a_million_characters_is_refused_whole(tmp_path):
                              "longer than 1,000,000 characters (the interpreter's limit)")
 
 
+@pytest.mark.parametrize("expression, what", [
+    ("(" * 3000 + "1.0" + ")" * 3000, "card 1, column 7: an expression nested too deeply"),
+    ("+".join(["1.0"] * 20000), "card 1, column 7: cannot compile this statement"),
+])
+def test_08_a_statement_too_big_to_compile_is_named(tmp_path, expression, what):
+    body = "X=" + expression
+    lines = ["      " + body[:66]] + ["     1" + body[i:i + 66]
+                                      for i in range(66, len(body), 66)]
+    line = fails(tmp_path, "\n".join(lines) + "\n      STOP\n      END\n")
+    assert line == f"{tmp_path / 'p.f'}: {what}" or line.startswith(
+        f"{tmp_path / 'p.f'}: {what}")
+
+
 # 9. form feed, tab and the other controls: refused on their card ----------------------------------
 @pytest.mark.parametrize("char, what", [
     ("\f", "control character '\\x0c'"), ("\v", "control character '\\x0b'"),

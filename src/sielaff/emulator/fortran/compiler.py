@@ -373,7 +373,11 @@ class _Compiler:
                                        "twice")
                 unit.labels[st.label] = index
         for st in unit.statements:
-            self.statement(unit, st)
+            try:
+                self.statement(unit, st)
+            except RecursionError:
+                raise FortranError(f"{st.where()}: an expression nested too deeply to "
+                                   "compile") from None
             unit.code.append(st)
         for st in unit.statements:  # every GO TO (and END=) goes somewhere
             for target in _jumps(st):
