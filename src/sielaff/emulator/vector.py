@@ -107,12 +107,14 @@ def numpy_matches_libm() -> bool:
     on 20,000 arguments spread over the range the program meets)."""
     global _LIBM_CHECKED
     if _LIBM_CHECKED is None:
-        x = np.random.default_rng(1966).uniform(-20.0, 20.0, 20_000)
+        # multiples of the golden ratio modulo 1 spread evenly over [-20, 20) (and need
+        # no numpy.random, whose import costs start-up)
+        x = 40.0 * np.modf(np.arange(20_000) * 0.6180339887498949)[0] - 20.0
         x[:4] = (0.0, -0.0, math.pi / 2, 3.14159265 / 2)
-        xs = x.tolist()
-        _LIBM_CHECKED = (np.sin(x).tolist() == [math.sin(v) for v in xs]
-                         and np.cos(x).tolist() == [math.cos(v) for v in xs]
-                         and np.sqrt(np.abs(x)).tolist() == [math.sqrt(abs(v)) for v in xs])
+        xs, root = x.tolist(), np.sqrt(np.abs(x))
+        _LIBM_CHECKED = (np.sin(x).tolist() == list(map(math.sin, xs))
+                         and np.cos(x).tolist() == list(map(math.cos, xs))
+                         and root.tolist() == list(map(math.sqrt, np.abs(x).tolist())))
     return _LIBM_CHECKED
 
 
@@ -346,59 +348,96 @@ def _sheets(m, ATH2: np.ndarray, tex: float, kinematics_only: bool):
 
 # -- printing ----------------------------------------------------------------
 
+# Each 12-character field is built as three 4-byte words (uint32 views of byte tables),
+# so that a field costs a few table lookups, not a dozen column writes.
+
+
+def _words(text: np.ndarray) -> np.ndarray:
+    """(m, 4k) bytes as (m, k) uint32 words (the same bytes, any byte order)."""
+    return np.ascontiguousarray(text).view(np.uint32)
+
+
+def _digit_table(n: np.ndarray, places: int, lead: str) -> np.ndarray:
+    """The last ``places`` decimal digits of ``n`` as bytes (len(n), places), leading
+    zeros kept ("0") or blanked (" ")."""
+    power = 10 ** np.arange(places - 1, -1, -1)
+    table = (n[:, None] // power % 10 + ord("0")).astype(np.uint8)
+    if lead == " ":
+        table[n[:, None] < power] = ord(" ")
+    return table
+
+
+def _signed(n: np.ndarray, places: int) -> np.ndarray:
+    """Bytes (2, len(n), places): n right-justified without leading zeros, and as the
+    same with a minus sign before its first digit (n = 0: the sign alone)."""
+    plain = _digit_table(n, places, " ")
+    minus = plain.copy()
+    width = (n[:, None] >= 10 ** np.arange(places)).sum(axis=1)
+    minus[np.arange(n.size), places - 1 - width] = ord("-")
+    return np.stack([plain, minus])
+
+
+_DIGITS4 = np.arange(10000)
+#: "0000" ... "9999", one uint32 word each.
+_FOUR = _words(_digit_table(_DIGITS4, 4, "0")).ravel()
+#: E12.4: the word "   ." or "  -.", then the four digits, then the exponent's word.
+_E_SIGN = _words(np.frombuffer(b"   .  -.", dtype=np.uint8).reshape(2, 4)).ravel()
+_E_EXPONENT = _words(np.frombuffer("".join(_EXPONENT_TEXT).encode(), dtype=np.uint8)
+                     .reshape(199, 4)).ravel()
 _E_SCALES = np.array([10.0 ** (4 - (k - 99)) for k in range(199)])
-_E_EXPONENT = np.array([t.encode() for t in _EXPONENT_TEXT], dtype="S4").view(np.uint8)
-_E_EXPONENT = _E_EXPONENT.reshape(199, 4)
-_DIGITS = np.frombuffer(b"0123456789", dtype=np.uint8)
-#: "0000" ... "9999" as bytes: four digits in one lookup.
-_FOUR = np.frombuffer("".join(f"{i:04d}" for i in range(10000)).encode(), dtype=np.uint8)
-_FOUR = _FOUR.reshape(10000, 4)
+#: F12.1 with t = |x| * 10 truncated = hi * 10**4 + lo.  _F_LOW[s, lo]: the whole field
+#: of a value below 1000 (s = 1 negative); past it _F_HIGH[s, hi] (the digits of hi, the
+#: sign, blanks) plus _F_LOW_DIGITS[lo] (three digits, the point, one decimal), whose
+#: bytes are zero where the other's are not.
+_F_LOW = np.full((2, 10000, 12), ord(" "), dtype=np.uint8)
+_F_LOW[:, :, :10] = _signed(_DIGITS4 // 10, 10)
+_F_LOW[:, :, 10] = ord(".")
+_F_LOW[:, :, 11] = _DIGITS4 % 10 + ord("0")
+_F_LOW = _words(_F_LOW.reshape(20000, 12))
+_F_HIGH = np.zeros((2, 10000, 12), dtype=np.uint8)
+_F_HIGH[:, :, :7] = _signed(_DIGITS4, 7)
+_F_HIGH = _words(_F_HIGH.reshape(20000, 12))
+_F_LOW_DIGITS = np.zeros((10000, 12), dtype=np.uint8)
+_F_LOW_DIGITS[:, 7:10] = _digit_table(_DIGITS4 // 10, 3, "0")
+_F_LOW_DIGITS[:, 10] = ord(".")
+_F_LOW_DIGITS[:, 11] = _DIGITS4 % 10 + ord("0")
+_F_LOW_DIGITS = _words(_F_LOW_DIGITS)
 
 
-def _edit_e(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
-    """E12.4 by the printer's first tier: (bytes (n, w), where it applies)."""
+def _edit_e(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """E12.4 by the printer's first tier: (words (n, 3), where it applies)."""
     a = np.abs(x)
     ok = (a >= 1e-99) & (a < 1e98)
+    zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
     with np.errstate(all="ignore"):
-        k = np.where(ok, np.floor(np.log10(np.where(ok, a, 1.0))), 0).astype(np.int64) + 100
-    k = np.clip(k, 0, 198)
+        k = np.floor(np.log10(np.where(ok, a, 1.0))).astype(np.int64) + 100
+    k = np.where(ok, k, 0)  # 0: the zero's exponent, E-99
     scaled = a * _E_SCALES[k]
     t = np.where(ok, scaled, 0.0).astype(np.int64)
     frac = scaled - t
     ok &= (t >= 1000) & (t <= 9999) & (frac > 1e-7) & (frac < 0.9999999)
-    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
-    out[:, w - 10] = np.where(x < 0.0, ord("-"), ord(" "))
-    out[:, w - 9] = ord(".")
-    out[:, w - 8:w - 4] = _FOUR[np.where(ok, t, 0)]
-    out[:, w - 4:] = _E_EXPONENT[k]
-    zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
-    out[zero, w - 10] = ord(" ")
-    out[zero, w - 8:w - 4] = ord("0")
-    out[zero, w - 4:] = _E_EXPONENT[0]
+    out = np.empty((x.size, 3), dtype=np.uint32)
+    out[:, 0] = _E_SIGN[(x < 0.0).view(np.uint8)]
+    out[:, 1] = _FOUR[np.where(ok, t, 0)]
+    out[:, 2] = _E_EXPONENT[k]
     return out, ok | zero
 
 
-def _edit_f(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
-    """F12.1 by the printer's first tier: (bytes (n, w), where it applies)."""
+def _edit_f(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """F12.1 by the printer's first tier: (words (n, 3), where it applies)."""
     a = np.abs(x)
     ok = (a > 0.0) & (a < 1e7)
     scaled = np.where(ok, a, 0.0) * 10.0
     t = scaled.astype(np.int64)
     frac = scaled - t
     ok &= (frac > 1e-6) & (frac < 0.999999)
-    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
-    out[:, w - 1] = _DIGITS[t % 10]
-    out[:, w - 2] = ord(".")
-    q = t // 10  # below 1E6: at most 6 digits before the point, no leading zero
-    out[:, w - 9:w - 5] = _FOUR[q // 10000 % 10000]
-    out[:, w - 5:w - 2] = _FOUR[q % 10000][:, 1:]
-    width = np.zeros(x.size, dtype=np.int64)
-    for j in range(7):
-        width += q >= 10 ** j
-    blank = np.arange(w - 9, w - 2)[None, :] < (w - 2 - width)[:, None]
-    out[:, w - 9:w - 2] = np.where(blank, np.uint8(32), out[:, w - 9:w - 2])
-    minus = np.flatnonzero(x < 0.0)
-    out[minus, w - 3 - width[minus]] = ord("-")
+    t = np.where(ok, t, 0)  # below 10**8: hi and lo below 10**4
+    negative = np.where(x < 0.0, 10000, 0)
+    hi, lo = np.divmod(t, 10000)
+    out = _F_LOW[lo + negative]
+    big = np.flatnonzero(hi)
+    if big.size:  # |x| >= 1000
+        out[big] = _F_HIGH[hi[big] + negative[big]] + _F_LOW_DIGITS[lo[big]]
     return out, ok
 
 
@@ -408,21 +447,29 @@ class _Listing:
     def __init__(self, deck, emit: Callable[[str], None], notice, kinematics_only: bool,
                  tex: float, writer_factory) -> None:
         self.deck, self.emit, self.notice = deck, emit, notice
-        self.emit_bytes = lambda data: emit(data.decode("ascii"))
         self.kinematics_only, self.tex = kinematics_only, tex
         self.writer_factory = writer_factory
         text, self.fields = _layout(kinematics_only)
-        self.template = np.frombuffer(text.encode("ascii"), dtype=np.uint8)
+        assert all(w == 12 for _o, _k, w, _d in self.fields)
+        # one page of CHUNK sheets, reused: each block rewrites every field's 12 bytes
+        template = np.frombuffer(text.encode("ascii"), dtype=np.uint8)
+        self.page = np.tile(template, (CHUNK, 1))
         groups = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
         self.names = [n for g in groups for n in g]
-        self.by_kind = {}  # kind -> (page columns, field offsets, names), all 12 wide
+        # kind -> (field offsets, names, runs); a run is fields of one kind side by side on
+        # a line, [first field, count, page offset]: one slice assignment each
+        self.by_kind = {}
         for kind in "EF":
-            picked = [(off, name) for (off, k, w, _d), name in zip(self.fields, self.names)
+            picked = [(off, name) for (off, k, _w, _d), name in zip(self.fields, self.names)
                       if k == kind]
-            assert all(w == 12 for _o, _k, w, _d in self.fields)
             offsets = [off for off, _ in picked]
-            columns = (np.array(offsets)[:, None] + np.arange(12)).ravel()
-            self.by_kind[kind] = (columns, offsets, [name for _, name in picked])
+            runs: list[list[int]] = []
+            for j, off in enumerate(offsets):
+                if runs and runs[-1][2] + 12 * runs[-1][1] == off:
+                    runs[-1][1] += 1
+                else:
+                    runs.append([j, 1, off])
+            self.by_kind[kind] = (offsets, [name for _, name in picked], runs)
         self.editors = {kind: fast_editor(kind, 12, 4 if kind == "E" else 1, True)
                         for kind in "EF"}
         self.port = Program(Float64(on_error=lambda text: notice("library", text)), notice)
@@ -473,13 +520,14 @@ class _Listing:
         n = ATH2.size
         if first + n - 1 == last:
             bad[-1] = True  # the trailing sheet: the port notices it
-        sheet_len = self.template.size
-        page = np.broadcast_to(self.template, (n, sheet_len)).copy()
-        for kind, (columns, offsets, names) in self.by_kind.items():
+        page = self.page[:n]
+        for kind, (offsets, names, runs) in self.by_kind.items():
             x = np.stack([v[name] for name in names], axis=1).ravel()
             with np.errstate(all="ignore"):
-                text, ok = (_edit_e if kind == "E" else _edit_f)(x, 12)
-            page[:, columns] = text.reshape(n, -1)
+                words, ok = (_edit_e if kind == "E" else _edit_f)(x)
+            text = words.view(np.uint8).reshape(n, 12 * len(names))
+            for j, count, offset in runs:
+                page[:, offset:offset + 12 * count] = text[:, 12 * j:12 * (j + count)]
             ok = ok.reshape(n, len(names))
             for j in np.flatnonzero(~ok.all(axis=0)):
                 rows = np.flatnonzero(~ok[:, j] & ~bad)
@@ -488,11 +536,11 @@ class _Listing:
         start = 0
         for s in np.flatnonzero(bad):
             if s > start:
-                self.emit_bytes(page[start:s].tobytes())
+                self.emit(str(page[start:s].data, "ascii"))
             self.port_sheet(index, first + int(s))
             start = s + 1
         if start < n:
-            self.emit_bytes(page[start:].tobytes())
+            self.emit(str(page[start:].data, "ascii"))
 
 
 def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
