@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 
 import numpy as np
 import pytest
@@ -31,17 +32,22 @@ PARAMETERS = ["     3.0     8.0     6.0", "     0.0     0.5     0.4",
 
 
 def both(text: str, **options) -> tuple:
-    """(listing, stderr, error) of the port and of the vectorised path."""
+    """(listing, stderr, error) of the port and of the vectorised path, the latter once
+    writing text and once writing its blocks as bytes (``run(binary=...)``, the command's
+    way); the two vectorised results must be the same."""
     deck = parse_deck(text)
     results = []
-    for vectorised in (False, True):
-        out, err = io.StringIO(), io.StringIO()
+    for vectorised, as_bytes in ((False, False), (True, False), (True, True)):
+        out, err = io.TextIOWrapper(io.BytesIO(), encoding="ascii", newline="\n"), io.StringIO()
         error = None
         try:
-            run(deck, out, notice=notice_printer(err), vectorised=vectorised, **options)
+            run(deck, out, notice=notice_printer(err), vectorised=vectorised,
+                binary=out.buffer if as_bytes else None, **options)
         except (ProgramError, SheetLimit) as exc:
             error = (type(exc).__name__, str(exc))
-        results.append((out.getvalue(), err.getvalue(), error))
+        out.flush()
+        results.append((out.buffer.getvalue().decode("ascii"), err.getvalue(), error))
+    assert results[1] == results[2]
     return results[0], results[1]
 
 
@@ -194,3 +200,35 @@ def test_bulk_editors_are_the_printers(kind):
     x = np.concatenate([x, -x])
     printed, wrong = _bulk_against_printer(kind, x)
     assert wrong == 0 and printed >= 0.9 * x.size
+
+
+def test_the_command_writes_the_blocks_as_bytes(tmp_path, monkeypatch):
+    """``sielaff run`` hands the blocks of sheets to the file's byte layer (the port's
+    sheets, with notices, in between as text): the same file as ``--port``, on stdout too."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from sielaff.cli import main
+
+    deck = tmp_path / "deck.dat"
+    deck.write_text("\n".join(PARAMETERS + ["   -20.0     1.0   380.0"]) + "\n")
+    used = []
+    real = vector.vector_run
+
+    def spy(*args, **kwargs):
+        used.append(args[-1] if len(args) > 9 else kwargs.get("emit_bytes"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(vector, "vector_run", spy)
+    assert main(["run", str(deck), "-o", str(tmp_path / "fast.lst")]) == 0
+    assert main(["run", str(deck), "--port", "-o", str(tmp_path / "port.lst")]) == 0
+    assert len(used) == 1 and used[0] is not None
+    fast, port = ((tmp_path / n).read_bytes() for n in ("fast.lst", "port.lst"))
+    assert fast == port and fast.count(b"THETA 2") == 402
+    root = Path(__file__).resolve().parents[1]
+    out = [subprocess.run([sys.executable, "-m", "sielaff", "run", str(deck), *extra],
+                          capture_output=True, check=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(root / "src")}).stdout
+           for extra in ([], ["--port"])]
+    assert out[0] == out[1] == port

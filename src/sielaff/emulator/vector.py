@@ -42,6 +42,7 @@ and on the 36,001-sheet deck of benchmarks/listing.py.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable
 
@@ -378,30 +379,37 @@ def _signed(n: np.ndarray, places: int) -> np.ndarray:
 
 
 _DIGITS4 = np.arange(10000)
+_TWO = _digit_table(np.arange(100), 2, "0")
 #: "0000" ... "9999", one uint32 word each.
-_FOUR = _words(_digit_table(_DIGITS4, 4, "0")).ravel()
+_FOUR = _words(np.concatenate([np.repeat(_TWO, 100, axis=0), np.tile(_TWO, (100, 1))],
+                              axis=1)).ravel()
 #: E12.4: the word "   ." or "  -.", then the four digits, then the exponent's word.
 _E_SIGN = _words(np.frombuffer(b"   .  -.", dtype=np.uint8).reshape(2, 4)).ravel()
 _E_EXPONENT = _words(np.frombuffer("".join(_EXPONENT_TEXT).encode(), dtype=np.uint8)
                      .reshape(199, 4)).ravel()
 _E_SCALES = np.array([10.0 ** (4 - (k - 99)) for k in range(199)])
-#: F12.1 with t = |x| * 10 truncated = hi * 10**4 + lo.  _F_LOW[s, lo]: the whole field
-#: of a value below 1000 (s = 1 negative); past it _F_HIGH[s, hi] (the digits of hi, the
-#: sign, blanks) plus _F_LOW_DIGITS[lo] (three digits, the point, one decimal), whose
-#: bytes are zero where the other's are not.
-_F_LOW = np.full((2, 10000, 12), ord(" "), dtype=np.uint8)
-_F_LOW[:, :, :10] = _signed(_DIGITS4 // 10, 10)
-_F_LOW[:, :, 10] = ord(".")
-_F_LOW[:, :, 11] = _DIGITS4 % 10 + ord("0")
+#: F12.1 with t = |x| * 10 truncated = hi * 10**4 + lo.  _F_LOW[s * 10**4 + lo]: the
+#: whole field of a value below 1000 (s = 1 negative): the digits of lo // 10 right-justified
+#: (the sign before them), the point and one decimal.
+_F_LOW = np.full((2, 1000, 10, 12), ord(" "), dtype=np.uint8)
+_F_LOW[..., :10] = _signed(np.arange(1000), 10)[:, :, None, :]
+_F_LOW[..., 10] = ord(".")
+_F_LOW[..., 11] = np.arange(ord("0"), ord("9") + 1, dtype=np.uint8)
 _F_LOW = _words(_F_LOW.reshape(20000, 12))
-_F_HIGH = np.zeros((2, 10000, 12), dtype=np.uint8)
-_F_HIGH[:, :, :7] = _signed(_DIGITS4, 7)
-_F_HIGH = _words(_F_HIGH.reshape(20000, 12))
-_F_LOW_DIGITS = np.zeros((10000, 12), dtype=np.uint8)
-_F_LOW_DIGITS[:, 7:10] = _digit_table(_DIGITS4 // 10, 3, "0")
-_F_LOW_DIGITS[:, 10] = ord(".")
-_F_LOW_DIGITS[:, 11] = _DIGITS4 % 10 + ord("0")
-_F_LOW_DIGITS = _words(_F_LOW_DIGITS)
+
+
+@functools.cache
+def _f_high() -> tuple[np.ndarray, np.ndarray]:
+    """Past 1000 (made when first needed): (_F_HIGH[s * 10**4 + hi], the digits of hi with
+    the sign before them, bytes 0-6; _F_LOW_DIGITS[lo], three digits, the point, one
+    decimal, bytes 7-11), each zero where the other is not: their sum is the field."""
+    high = np.zeros((20000, 12), dtype=np.uint8)
+    high[:, :7] = _signed(_DIGITS4, 7).reshape(20000, 7)
+    low = np.zeros((10000, 12), dtype=np.uint8)
+    low[:, 7:10] = _digit_table(_DIGITS4 // 10, 3, "0")
+    low[:, 10] = ord(".")
+    low[:, 11] = _DIGITS4 % 10 + ord("0")
+    return _words(high), _words(low)
 
 
 def _edit_e(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -437,7 +445,8 @@ def _edit_f(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     out = _F_LOW[lo + negative]
     big = np.flatnonzero(hi)
     if big.size:  # |x| >= 1000
-        out[big] = _F_HIGH[hi[big] + negative[big]] + _F_LOW_DIGITS[lo[big]]
+        high, low = _f_high()
+        out[big] = high[hi[big] + negative[big]] + low[lo[big]]
     return out, ok
 
 
@@ -445,8 +454,11 @@ class _Listing:
     """Sheets of one deck through the vectorised path, handing special ones back."""
 
     def __init__(self, deck, emit: Callable[[str], None], notice, kinematics_only: bool,
-                 tex: float, writer_factory) -> None:
+                 tex: float, writer_factory,
+                 emit_bytes: Callable[[memoryview], None] | None = None) -> None:
         self.deck, self.emit, self.notice = deck, emit, notice
+        self.emit_page = ((lambda rows: emit(str(rows.data, "ascii"))) if emit_bytes is None
+                          else (lambda rows: emit_bytes(rows.data)))
         self.kinematics_only, self.tex = kinematics_only, tex
         self.writer_factory = writer_factory
         text, self.fields = _layout(kinematics_only)
@@ -536,23 +548,26 @@ class _Listing:
         start = 0
         for s in np.flatnonzero(bad):
             if s > start:
-                self.emit(str(page[start:s].data, "ascii"))
+                self.emit_page(page[start:s])
             self.port_sheet(index, first + int(s))
             start = s + 1
         if start < n:
-            self.emit(str(page[start:].data, "ascii"))
+            self.emit_page(page[start:])
 
 
 def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
                kinematics_only: bool = False, max_sheets: int | None = None,
                progress: Callable[[int], None] | None = None, tex: float = 0.0,
-               counts: list[int] | None = None) -> int:
+               counts: list[int] | None = None,
+               emit_bytes: Callable[[memoryview], None] | None = None) -> int:
     """The listing of ``deck`` in float64 (see the module doc): sheets written through
     ``emit``; ``writer_factory(emit, kinematics_only)`` makes the port's WRITE for the
     sheets handed back.  The deck must pass the crank-rocker test and every range card
     must end (the caller checks both); ``counts``, the sheets of each card, as
-    :func:`plan` gives them.  Raises SheetLimit past ``max_sheets``."""
-    listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory)
+    :func:`plan` gives them.  ``emit_bytes``, if given, takes the blocks' sheets as ASCII
+    bytes in place of ``emit`` (no decoding; it must put them where ``emit``'s text goes,
+    in order).  Raises SheetLimit past ``max_sheets``."""
+    listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory, emit_bytes)
     if not float(tex) == float(tex) or abs(float(tex)) >= 1e99:
         raise ValueError("tex must be finite (the caller checks it)")
     total = 0
