@@ -194,10 +194,12 @@ def _vector(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     RAD = 57.2957795
     with np.errstate(divide="ignore", invalid="ignore"):
         ARC = np.arctan(np.abs(Y) / np.abs(X))
-    ANG = np.where(X == 0.0,
-                   np.where(Y < 0.0, (3.0 * PI) / 2.0, np.where(Y > 0.0, PI / 2.0, 0.0)),
-                   np.where(X > 0.0, np.where(Y < 0.0, 2.0 * PI - ARC, ARC),
-                            np.where(Y < 0.0, PI + ARC, PI - ARC)))
+    below = Y < 0.0
+    ANG = np.where(X > 0.0, np.where(below, 2.0 * PI - ARC, ARC),
+                   np.where(below, PI + ARC, PI - ARC))
+    axis = X == 0.0
+    if axis.any():
+        ANG[axis] = np.where(below, (3.0 * PI) / 2.0, np.where(Y > 0.0, PI / 2.0, 0.0))[axis]
     return np.sqrt(X * X + Y * Y), ANG * RAD
 
 
@@ -417,16 +419,13 @@ def _edit_e(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     a = np.abs(x)
     ok = (a >= 1e-99) & (a < 1e98)
     zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
-    with np.errstate(all="ignore"):
-        k = np.floor(np.log10(np.where(ok, a, 1.0))).astype(np.int64) + 100
-    k = np.where(ok, k, 0)  # 0: the zero's exponent, E-99
-    scaled = a * _E_SCALES[k]
-    t = np.where(ok, scaled, 0.0).astype(np.int64)
-    frac = scaled - t
-    ok &= (t >= 1000) & (t <= 9999) & (frac > 1e-7) & (frac < 0.9999999)
+    k = np.floor(np.log10(a))  # NaN, inf where not ok: not used
+    k = np.where(ok, k + 100.0, 0.0).astype(np.intp)  # exponent + 99; 0: the zero's, E-99
+    frac, whole = np.modf(a * _E_SCALES[k])  # t and the rest, as the printer's int()
+    ok &= (whole >= 1000.0) & (whole <= 9999.0) & (frac > 1e-7) & (frac < 0.9999999)
     out = np.empty((x.size, 3), dtype=np.uint32)
-    out[:, 0] = _E_SIGN[(x < 0.0).view(np.uint8)]
-    out[:, 1] = _FOUR[np.where(ok, t, 0)]
+    out[:, 0] = np.where(x < 0.0, _E_SIGN[1], _E_SIGN[0])
+    out[:, 1] = _FOUR[np.where(ok, whole, 0.0).astype(np.intp)]
     out[:, 2] = _E_EXPONENT[k]
     return out, ok | zero
 
