@@ -419,9 +419,10 @@ def _edit_e(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     a = np.abs(x)
     ok = (a >= 1e-99) & (a < 1e98)
     zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
-    k = np.floor(np.log10(a))  # NaN, inf where not ok: not used
-    k = np.where(ok, k + 100.0, 0.0).astype(np.intp)  # exponent + 99; 0: the zero's, E-99
-    frac, whole = np.modf(a * _E_SCALES[k])  # t and the rest, as the printer's int()
+    with np.errstate(all="ignore"):  # NaN, inf where not ok: not used
+        k = np.where(ok, np.floor(np.log10(a)) + 100.0, 0.0).astype(np.intp)
+    # k: exponent + 99 (0: the zero's, E-99); t and the rest, as the printer's int()
+    frac, whole = np.modf(a * _E_SCALES[k])
     ok &= (whole >= 1000.0) & (whole <= 9999.0) & (frac > 1e-7) & (frac < 0.9999999)
     out = np.empty((x.size, 3), dtype=np.uint32)
     out[:, 0] = np.where(x < 0.0, _E_SIGN[1], _E_SIGN[0])
@@ -434,7 +435,7 @@ def _edit_f(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """F12.1 by the printer's first tier: (words (n, 3), where it applies)."""
     a = np.abs(x)
     ok = (a > 0.0) & (a < 1e7)
-    scaled = np.where(ok, a, 0.0) * 10.0
+    scaled = np.where(ok, a, 0.0) * 10.0  # NaN and inf out before the cast
     t = scaled.astype(np.int64)
     frac = scaled - t
     ok &= (frac > 1e-6) & (frac < 0.999999)
