@@ -136,10 +136,10 @@ def startup(runs: dict[str, Callable[[], object]], n: int) -> dict[str, list[flo
     return cpu
 
 
-def output_of(argv: list[str], env: dict[str, str]) -> tuple[str, int]:
-    """(SHA-256, length in bytes) of what a command prints on stdout."""
+def output_of(argv: list[str], env: dict[str, str]) -> tuple[str, int, int]:
+    """(SHA-256, length in bytes, sheets) of the listing a command prints on stdout."""
     out = subprocess.run(argv, env=env, check=True, capture_output=True).stdout
-    return hashlib.sha256(out).hexdigest(), len(out)
+    return hashlib.sha256(out).hexdigest(), len(out), out.count(b"THETA 2")
 
 
 def peak_rss_mb(deck_path: Path, sheets: int, env: dict[str, str]) -> float:
@@ -263,14 +263,14 @@ def report(args: argparse.Namespace) -> str:
         f"Measured by `python benchmarks/listing.py --write-docs` on {machine()}; load "
         f"average (1 min) {load_before[0]:.1f} before and {load_after[0]:.1f} after.", "",
         "The report's mechanism with THETA 2 from 0.01 to 360 in steps of 0.01 degree "
-        f"(36,001 sheets, {fast_out[1] / 1e6:.0f} MB of listing), every program "
+        f"({fast_out[2]:,} sheets, {fast_out[1] / 1e6:.0f} MB of listing), every program "
         "a whole process writing to /dev/null, start-up included (sielaff's bytecode "
         "cached, as after `pip install`); the compiled deck (`decks/sielaff.f`, gfortran "
         f"-O2, REAL*8) run beside each configuration in each of {args.rounds} rounds, "
         "which goes first alternating; median (range) over the rounds.  The ratios are "
         "of CPU times (user + sys from `getrusage` of the child processes, of the "
-        "benchmark's own process for the in-process row), which a shared machine "
-        "disturbs less than wall times.", "",
+        "benchmark's own process for the in-process row): the machine is shared, and "
+        "time spent waiting for a core counts in wall time, not in CPU time.", "",
         *table(series), "",
         f"* **`sielaff run`: {ratio:.2f}x gfortran's throughput in CPU time** (range "
         f"{min(fast.ratio('cpu')):.2f}-{max(fast.ratio('cpu')):.2f}x; goal >= 3x: "
