@@ -376,6 +376,20 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         return EXIT_DECK
 
 
+#: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS
+#: routine, so the pool is start-up cost and nothing else (benchmarks/listing.py measures
+#: it).  These ask the common BLAS builds for one thread.
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
+
+
+def one_blas_thread() -> None:
+    """Ask for a BLAS of one thread, unless the user set the variable: before numpy loads
+    (``import sielaff.cli`` does not load it), so only the command's entry points call it."""
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+
+
 def entry() -> None:
     """Console-script entry point."""
+    one_blas_thread()
     sys.exit(main())

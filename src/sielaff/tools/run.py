@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import BinaryIO
 
 from sielaff.tools.common import (
     EXIT_NOT_CRANK_ROCKER,
@@ -38,7 +39,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                 run(deck, stream, arithmetic=args.arith, notice=notice,
                     kinematics_only=args.kinematics_only or args.only == "kinematics",
                     max_sheets=args.max_sheets, progress=bar, tex=args.tex,
-                    vectorised=not args.port)
+                    vectorised=not args.port, binary=None if args.render else _bytes_under(out))
         except NotCrankRocker as exc:
             # The listing holds the 1966 message; an -o file is left as it was (exit 3).
             if args.render:
@@ -59,6 +60,23 @@ def cmd_run(args: argparse.Namespace) -> int:
                f"by roundoff in {args.arith} arithmetic, so forces near the toggle are "
                "meaningless")
     return 0
+
+
+def _bytes_under(stream) -> BinaryIO | None:
+    """The byte stream under ``stream`` if text written to it arrives there unchanged: a
+    TextIOWrapper in an ASCII-compatible encoding where lines end in "\n" (sys.stdout and
+    ``atomic_output``'s files do not translate "\n" there)."""
+    import codecs
+    import io
+    import os
+
+    if os.linesep != "\n" or not isinstance(stream, io.TextIOWrapper):
+        return None
+    try:
+        name = codecs.lookup(stream.encoding).name
+    except LookupError:
+        return None
+    return stream.buffer if name in ("ascii", "utf-8", "latin-1", "iso8859-1") else None
 
 
 def _run_program(args: argparse.Namespace, deck) -> int:
