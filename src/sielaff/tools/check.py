@@ -408,7 +408,9 @@ def _design_section(m: Mechanism, rep: CheckReport, scene: dict | None = None) -
     from sielaff.design.report import bearing_lines, flywheel_lines
 
     scene = dict(scene or {})
-    if scene.get("th2dd", 0.0) == 0.0:
+    if m.TH2D == 0.0:
+        rep.add("  flywheel: not sized (TH2D = 0: the crank does not turn)")
+    elif scene.get("th2dd", 0.0) == 0.0:
         for line in flywheel_lines(flywheel(m, **scene), m.units):
             rep.add(line)
     else:

@@ -184,15 +184,14 @@ def read_spec_deck(path: str) -> tuple[Deck, dict]:
     """A TOML spec's deck (in its unit system) and its scene (``analyze``'s keywords)."""
     import dataclasses
 
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+    from sielaff.tools.spec import PunchError, read_spec, scene_of, spec_deck
 
     if not os.path.lexists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
         scene = scene_of(spec, path)
-        deck = parse_deck(punch_deck(spec, path, any_units=True), path)
+        deck = spec_deck(spec, path)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     units = scene.pop("units")

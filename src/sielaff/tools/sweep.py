@@ -54,8 +54,11 @@ def _pareto(x, y):
 
     # roundoff (a balanced design's shaking force, ~1E-13) is zero: ties never depend
     # on a CPU's last bits
-    x, y = (np.where(np.abs(v) <= 1e-9 * np.nanmax(np.abs(v)), 0.0, v) for v in (x, y))
-    ok = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
+    finite = np.isfinite(x) & np.isfinite(y)
+    if not finite.any():  # no design turns fully: no front (and no all-NaN reduction)
+        return np.array([], dtype=int)
+    x, y = (np.where(np.abs(v) <= 1e-9 * np.max(np.abs(v[finite])), 0.0, v) for v in (x, y))
+    ok = np.flatnonzero(finite)
     order = ok[np.lexsort((y[ok], x[ok]))]
     front, best = [], np.inf
     for i in order:
