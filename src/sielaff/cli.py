@@ -299,6 +299,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    from sielaff.tools import output
+
+    output.committed.clear()  # what this run replaces (main may run more than once)
     install_signal_handlers()
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
@@ -331,6 +334,8 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.output import changed_note
+
     try:
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
@@ -342,13 +347,12 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     except KeyboardInterrupt:
         if debug:
             raise
-        print("sielaff: interrupted; no output file was changed", file=sys.stderr)
+        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Terminated as exc:
         if debug:
             raise
-        print(f"sielaff: terminated by {exc.name}; no output file was changed",
-              file=sys.stderr)
+        print(f"sielaff: terminated by {exc.name}; {changed_note()}", file=sys.stderr)
         return exc.status
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.

@@ -36,14 +36,25 @@ class Terminated(BaseException):
 
 
 def _raise_terminated(signum, _frame) -> None:
+    from sielaff.tools import output
+
+    if output.deferring():  # outputs are being renamed into place: act when they are
+        output.defer(signum)
+        return
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
 
 
 def install_signal_handlers() -> None:
     """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
-    every output written whole or not at all, the temporary file removed."""
-    for name in ("SIGTERM", "SIGHUP"):
+    every output written whole or not at all, the temporary file removed.  All three wait
+    while a set of outputs is being renamed into place (``sielaff.tools.output``)."""
+    for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
+            if name == "SIGINT" and signal.getsignal(signal.SIGINT) is not \
+                    signal.default_int_handler:
+                continue  # Ctrl-C ignored by the parent (nohup, a background job): keep it
             signal.signal(getattr(signal, name), _raise_terminated)
 
 

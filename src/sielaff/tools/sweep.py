@@ -73,7 +73,7 @@ def cmd_sweep(args) -> int:
 
     from sielaff.design.sweep import Grid, columns, iter_blocks
     from sielaff.tools.common import CommandError, read_spec_deck, refuse_overwriting_inputs
-    from sielaff.tools.output import atomic_files
+    from sielaff.tools.output import atomic_files, check_targets
     from sielaff.tools.spec import PunchError, read_spec, sweep_of
 
     path = args.spec
@@ -81,6 +81,7 @@ def cmd_sweep(args) -> int:
         refuse_overwriting_inputs(target, [path])
         if target and os.path.isdir(target):
             raise CommandError(f"sielaff: {target} is a folder: name the file to write")
+    check_targets([p for p in (args.output, args.plot) if p])  # before any work
     if args.plot:
         try:
             import matplotlib  # noqa: F401
