@@ -321,7 +321,11 @@ def test_18_a_cluster_lost_mid_sweep_is_one_line(tmp_path, lose):
         sweep = subprocess.Popen([*SIELAFF, "sweep", str(spec), "-o", str(out),
                                   "--scheduler", address], stderr=subprocess.PIPE,
                                  text=True, preexec_fn=_limits)
-        time.sleep(8)  # connected and computing
+        deadline = time.monotonic() + 90
+        while not [p for p in tmp_path.iterdir() if ".tmp" in p.name]:  # connected: the
+            assert sweep.poll() is None and time.monotonic() < deadline  # -o file is open
+            time.sleep(0.1)
+        time.sleep(3)  # computing
         assert sweep.poll() is None
         killed = time.monotonic()
         os.kill(cluster.pid if lose == "scheduler" else int(worker_pid), signal.SIGKILL)
