@@ -291,12 +291,11 @@ def test_18_scheduler_that_is_not_one_is_one_line_in_bounded_time(tmp_path, kind
 
 
 _CLUSTER = """
-import sys, time
+import time
 from distributed import LocalCluster
-cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                       host="127.0.0.1", dashboard_address=None, silence_logs=50)
-worker = next(iter(cluster.workers.values()))
-print(cluster.scheduler_address, worker.process.process.pid, flush=True)
+cluster = LocalCluster(n_workers=0, processes=True, host="127.0.0.1",
+                       dashboard_address=None, silence_logs=50)
+print(cluster.scheduler_address, flush=True)
 time.sleep(600)
 """
 
@@ -314,8 +313,14 @@ def test_18_a_cluster_lost_mid_sweep_is_one_line(tmp_path, lose):
     spec.write_text(SWEEP_SPEC.replace("n = 61", "n = 800"))
     cluster = subprocess.Popen([sys.executable, "-c", _CLUSTER], stdout=subprocess.PIPE,
                                stderr=subprocess.DEVNULL, text=True)
+    worker = None
     try:
-        address, worker_pid = cluster.stdout.readline().split()
+        address = cluster.stdout.readline().strip()
+        # the cluster's only worker, without a nanny (one would start another)
+        worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker",
+                                   address, "--no-nanny", "--nthreads", "1", "--host",
+                                   "127.0.0.1", "--no-dashboard"],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         out = tmp_path / "s.csv"
         out.write_text("precious\n")
         sweep = subprocess.Popen([*SIELAFF, "sweep", str(spec), "-o", str(out),
@@ -328,23 +333,19 @@ def test_18_a_cluster_lost_mid_sweep_is_one_line(tmp_path, lose):
         time.sleep(3)  # computing
         assert sweep.poll() is None
         killed = time.monotonic()
-        os.kill(cluster.pid if lose == "scheduler" else int(worker_pid), signal.SIGKILL)
+        (cluster if lose == "scheduler" else worker).kill()
         _, err = sweep.communicate(timeout=NO_WORKER_SECONDS + 60)
         seconds = time.monotonic() - killed
     finally:
-        for proc in (cluster, locals().get("sweep")):
+        for proc in (cluster, worker, locals().get("sweep")):
             if proc is not None and proc.poll() is None:
                 proc.kill()
+            if proc is not None:
                 proc.wait()
-        if "worker_pid" in locals():  # the worker outlives a killed scheduler: end it
-            try:
-                os.kill(int(worker_pid), signal.SIGKILL)
-            except ProcessLookupError:
-                pass
     line = one_line(err)
     assert sweep.returncode == 2 and line.startswith(f"--scheduler {address}: ")
     assert seconds < NO_WORKER_SECONDS + 30
-    assert ("connection to the scheduler was lost" in line if lose == "scheduler"
+    assert ("the scheduler was lost or stopped mid-sweep" in line if lose == "scheduler"
             else f"no worker for {NO_WORKER_SECONDS:g} s" in line), line
     assert out.read_text() == "precious\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml", "s.csv"]
@@ -477,6 +478,9 @@ def _trial(argv: list[str], outputs: list[Path], delay: float) -> tuple[int, str
     if proc.returncode == 0:
         assert all(new), err
         return 0, "finished"
+    if proc.returncode == -signal.SIGTERM:  # before Python let sielaff set its handlers
+        assert err == "" and not any(new), err
+        return -15, "before the handlers"
     assert proc.returncode == 143, err
     if "no output file was changed" in err:
         assert not any(new), err
@@ -517,7 +521,7 @@ def test_20_sigterm_at_any_moment_leaves_a_true_message(tmp_path, command):
     rng = random.Random(21)
     seen = {}
     for _ in range(12):
-        what = _trial(argv, outputs, rng.uniform(0.5 * whole, 1.1 * whole))
+        what = _trial(argv, outputs, rng.uniform(0.0, 1.2 * whole))
         seen[what] = seen.get(what, 0) + 1
         left = [p.name for p in tmp_path.rglob("*") if ".tmp" in p.name or ".old" in p.name]
         assert not left, left

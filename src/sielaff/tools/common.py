@@ -35,9 +35,16 @@ class Terminated(BaseException):
         self.name = signal.Signals(signum).name
 
 
+#: ``process``: main runs as the ``sielaff`` process (not called in-process by a test);
+#: ``finished``: its command has ended and said so, so a late signal changes nothing.
+SIGNAL_STATE = {"process": False, "finished": False}
+
+
 def _raise_terminated(signum, _frame) -> None:
     from sielaff.tools import output
 
+    if SIGNAL_STATE["finished"]:  # the command is done: nothing is left to protect
+        return
     if output.deferring():  # outputs are being renamed into place: act when they are
         output.defer(signum)
         return
@@ -46,16 +53,30 @@ def _raise_terminated(signum, _frame) -> None:
     raise Terminated(signum)
 
 
-def install_signal_handlers() -> None:
+def install_signal_handlers(process: bool = False) -> None:
     """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
-    every output written whole or not at all, the temporary file removed.  All three wait
-    while a set of outputs is being renamed into place (``sielaff.tools.output``)."""
+    every output written whole or not at all, the temporary file removed.  They wait
+    while a set of outputs is being renamed into place (``sielaff.tools.output``), and
+    so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
+    keep Python's own Ctrl-C)."""
+    SIGNAL_STATE.update(process=process, finished=False)
     for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
-            if name == "SIGINT" and signal.getsignal(signal.SIGINT) is not \
-                    signal.default_int_handler:
+            if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
+                                     signal.default_int_handler):
                 continue  # Ctrl-C ignored by the parent (nohup, a background job): keep it
             signal.signal(getattr(signal, name), _raise_terminated)
+
+
+def finish_signals() -> None:
+    """The ``sielaff`` process's command has ended and said so: from now on a signal is
+    ignored (Python restores the default handlers as it exits, and a SIGTERM then would
+    end the process silently with a status that says nothing was done)."""
+    if SIGNAL_STATE["process"]:
+        SIGNAL_STATE["finished"] = True
+        for name in ("SIGTERM", "SIGHUP", "SIGINT"):
+            if hasattr(signal, name):
+                signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
 # -- output -------------------------------------------------------------------------

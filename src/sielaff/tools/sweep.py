@@ -253,8 +253,9 @@ def _on_cluster(blocks, address: str | None, client):
 
             if isinstance(exc, ClusterLost):
                 what = f"{exc}: the sweep stopped"
-            elif "connection-lost" in str(exc) or "CommClosed" in type(exc).__name__:
-                what = "the connection to the scheduler was lost mid-sweep"
+            elif ("Cancelled" in type(exc).__name__ or "CommClosed" in type(exc).__name__
+                  or "connection-lost" in str(exc)):
+                what = "the work was cancelled: the scheduler was lost or stopped mid-sweep"
             else:
                 what = f"the sweep failed on the cluster ({_why(exc)})"
             raise CommandError(f"--scheduler {address}: {what}") from None
