@@ -55,13 +55,13 @@ def _positions_loop(ath2, p, out):
                                                  p[20], p[21], p[22], p[23], p[24])
     deg = 180.0 / math.pi
     rad = math.pi / 180.0
-    tol = -16.0 * 2.220446049250313e-16 * (R1 + R2 + R3 + R4) ** 4
+    tol = -8.0 * 2.220446049250313e-16 * (R1 + R2 + R3 + R4)  # positions.ASSEMBLY_TOL_EPS
     k2 = -W2 / GW
     k3 = -W3 / GW
     k4 = -W4 / GW
     for i in range(ath2.shape[0]):
         a = ath2[i]
-        if a < 0.0 or a >= 360.0:
+        if not (a >= 0.0 and a < 360.0):
             a = a % 360.0
         th2 = a * rad
         c2 = math.cos(th2)
@@ -72,12 +72,15 @@ def _positions_loop(ath2, p, out):
         zl2 = dx * dx + dy * dy
         zl = math.sqrt(zl2)
         t = zl + R3
-        hh = (t + R4) * (t - R4)
+        f0 = t + R4
+        f1 = t - R4
         t = zl - R3
-        hh = hh * ((R4 - t) * (t + R4))
-        if hh > tol and hh < 0.0:
-            hh = 0.0
-        h = math.sqrt(hh) if hh >= 0.0 else math.nan
+        f2 = R4 - t
+        f3 = t + R4
+        hh = math.nan
+        if f1 >= tol and f2 >= tol and f3 >= tol:  # each linear factor, as positions
+            hh = (f0 * max(f1, 0.0)) * (max(f2, 0.0) * max(f3, 0.0))
+        h = math.sqrt(hh)
         if BRANCH != 1.0:
             h = -h
         q = zl2 + (R3 * R3 - R4 * R4)
@@ -158,7 +161,7 @@ def _positions_loop(ath2, p, out):
         out[0, i] = ath2[i]
         out[1, i] = ath3
         out[2, i] = ath4
-        out[3, i] = math.atan2(-s34, c34) * deg
+        out[3, i] = math.atan2(abs(s34), c34) * deg
         out[4, i] = th3d
         out[5, i] = th4d
         out[6, i] = th3dd
@@ -169,7 +172,7 @@ def _positions_loop(ath2, p, out):
                      (ag2x, ag2y), (aax, aay), (ag3x, ag3y), (abx, aby), (ag4x, ag4y),
                      (fa32x, fa32y), (fb34x, fb34y), (foax, foay), (fobx, foby),
                      (shakx, shaky)):
-            d = math.atan2(y, x) * deg
+            d = math.atan2(y + 0.0, x + 0.0) * deg
             if d < 0.0:
                 d += 360.0
             if d >= 360.0:

@@ -98,8 +98,8 @@ def cmd_balance(args) -> int:
     _too_large(balanced, path, args)
     lines = [f"sielaff balance: {path} (units {m.units})", ""]
     with np.errstate(all="ignore"):  # a design near 1E99 may overflow a product: nan
-        lines += balance_lines(m, balanced, args.radius2, args.radius4, **scene)
-    if scene.get("gravity") is not None or scene.get("loads"):
+        lines += balance_lines(m, balanced, args.radius2, args.radius4, scene=scene)
+    if scene.gravity is not None or scene.loads:
         lines.append("  (the spec's weights and loads still reach the frame: counterweights "
                      "cancel the inertia forces only)")
     if args.output:
@@ -122,8 +122,8 @@ def cmd_balance(args) -> int:
         written = m.replace(**{n: float(values[n]) for n in FIELD_NAMES})
         th = np.arange(3600) * 0.1
         with np.errstate(all="ignore"):
-            before = float(np.max(analyze(m, th, ["SHAK"], **scene)["SHAK"]))
-            after = float(np.max(analyze(written, th, ["SHAK"], **scene)["SHAK"]))
+            before = float(np.max(analyze(m, th, ["SHAK"], scene=scene)["SHAK"]))
+            after = float(np.max(analyze(written, th, ["SHAK"], scene=scene)["SHAK"]))
         how = ("every value as computed" if as_spec else
                "its fields rounded to fit F8.4 (4 decimals at most)")
         lines += ["", f"Written to {args.output} with {how}: "
