@@ -30,6 +30,7 @@ from sielaff.tools.common import (
     EXIT_INTERRUPTED,
     CommandError,
     Terminated,
+    finish_signals,
     install_signal_handlers,
     silence_stdout,
 )
@@ -313,7 +314,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)  # what made an output (report)
-    install_signal_handlers()
+    from sielaff.tools import output
+
+    output.committed.clear()  # what this run replaces (main may run more than once)
+    install_signal_handlers(process=_PROCESS)
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
     if sys.stdout is None:  # started with >&-
@@ -322,10 +326,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         else:
             return _closed_stream()
     debug = getattr(args, "debug", False)
-    with warnings.catch_warnings():
-        # A Python warning becomes one diagnostic line, never source text and a path.
-        warnings.showwarning = _warning_line
-        return _dispatch(args, debug)
+    try:
+        with warnings.catch_warnings():
+            # A Python warning becomes one diagnostic line, never source text and a path.
+            warnings.showwarning = _warning_line
+            return _dispatch(args, debug)
+    finally:
+        _flush()
+        finish_signals()
+
+
+def _flush() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
 
 
 def _closed_stream() -> int:
@@ -345,6 +361,8 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.output import changed_note
+
     try:
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
@@ -356,13 +374,12 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     except KeyboardInterrupt:
         if debug:
             raise
-        print("sielaff: interrupted; no output file was changed", file=sys.stderr)
+        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Terminated as exc:
         if debug:
             raise
-        print(f"sielaff: terminated by {exc.name}; no output file was changed",
-              file=sys.stderr)
+        print(f"sielaff: terminated by {exc.name}; {changed_note()}", file=sys.stderr)
         return exc.status
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.
@@ -389,7 +406,25 @@ def one_blas_thread() -> None:
         os.environ.setdefault(name, "1")
 
 
+#: True when main runs as the ``sielaff`` process (``entry``), not called in-process.
+_PROCESS = False
+
+
 def entry() -> None:
-    """Console-script entry point."""
+    """Console-script entry point (and ``python -m sielaff``).
+
+    A signal that arrives after the command has ended but before main returns (a few
+    instructions) is reported here as _dispatch would; after that, signals are ignored
+    (``finish_signals``)."""
+    global _PROCESS
+    _PROCESS = True
     one_blas_thread()
-    sys.exit(main())
+    try:
+        status = main()
+    except (KeyboardInterrupt, Terminated) as exc:
+        from sielaff.tools.output import changed_note
+
+        what = f"terminated by {exc.name}" if isinstance(exc, Terminated) else "interrupted"
+        print(f"sielaff: {what}; {changed_note()}", file=sys.stderr)
+        status = getattr(exc, "status", EXIT_INTERRUPTED)
+    sys.exit(status)
