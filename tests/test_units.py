@@ -148,5 +148,5 @@ def test_balance_keeps_a_spec_s_precision_and_names_the_weight(tmp_path):
     # the merged values are full floats, not 4-decimal roundings
     crank = spec["inertia"]["crank"]
     assert crank != round(crank, 4)
-    assert "rounding" not in proc.stdout.split("Written to")[1]
+    assert "rounding to F8.4" not in proc.stdout.split("Written to")[1]
     assert "links' weight" in proc.stdout
