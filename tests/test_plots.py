@@ -264,7 +264,7 @@ def test_plot_without_matplotlib(tmp_path):
             f"{str(tmp_path / 'p')!r}]))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 2
-    assert r.stderr == "sielaff: sielaff plot needs matplotlib: pip install 'sielaff[plot]'\n"
+    assert r.stderr == "sielaff: sielaff plot needs matplotlib: pip install -e \".[plot]\"\n"
     assert not (tmp_path / "p").exists()
 
 

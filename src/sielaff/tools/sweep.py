@@ -209,7 +209,8 @@ def cmd_sweep(args) -> int:
             _close(client)
     ok = np.isfinite(np.concatenate(xs))
     print(f"sielaff sweep: {grid.size} designs ({int(ok.sum())} with a full cycle), "
-          f"{sweep['angles']} angles each, on {backend if backend == 'process' else 'dask'}"
+          f"{sweep['angles']} angles each, "
+          f"{'in this process' if backend == 'process' else 'through dask'}"
           + (f" -> {args.output}" if args.output else ""), file=sys.stderr)
     return 0
 

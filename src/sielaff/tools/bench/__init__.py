@@ -23,7 +23,7 @@ def _need(module: str, extra: str, what: str) -> None:
         importlib.import_module(module)
     except ImportError:
         raise CommandError(f"sielaff: {what} needs {module}, which is not installed "
-                           f"(pip install 'sielaff[{extra}]')") from None
+                           f"(pip install -e \".[{extra}]\")") from None
 
 
 def cmd_bench(args: argparse.Namespace) -> int:

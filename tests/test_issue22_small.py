@@ -1,0 +1,51 @@
+"""Issue 22's smaller points, each with a test: the past-THMAX quirk's wording, one form
+of the missing-extra hint, the sweep's status line."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+from conftest import DECKS, ROOT
+
+SIELAFF = [sys.executable, "-m", "sielaff"]
+PARAMETERS = "".join((DECKS / "example.dat").read_text().splitlines(keepends=True)[:6])
+
+
+def test_past_thmax_by_roundoff_shows_the_digits_that_differ(tmp_path):
+    """THZERO 0, DELTA 0.1, THMAX 100.1: the last sheet is 100.10000000000001, past THMAX by
+    roundoff; the quirk must not read "100.1 is past THMAX = 100.1"."""
+    deck = tmp_path / "q.dat"
+    deck.write_text(PARAMETERS + "     0.0     0.1   100.1\n")
+    r = subprocess.run([*SIELAFF, "run", deck, "-o", tmp_path / "q.asa"], capture_output=True,
+                       text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    line = next(x for x in r.stderr.splitlines() if "is past THMAX" in x)
+    assert "THETA 2 = 100.10000000000001 is past THMAX = 100.1 (by roundoff" in line
+    a, b = re.search(r"THETA 2 = (\S+) is past THMAX = (\S+)", line).groups()
+    assert a != b
+    # a sheet clearly past keeps the short form
+    deck.write_text(PARAMETERS + "    10.0    10.0   360.0\n")
+    r = subprocess.run([*SIELAFF, "run", deck, "-o", tmp_path / "q.asa"], capture_output=True,
+                       text=True, timeout=300)
+    assert "THETA 2 = 370 is past THMAX = 360:" in r.stderr
+
+
+def test_missing_extra_hints_agree():
+    """Every hint for a missing optional extra says the README's form, pip install -e
+    ".[extra]", never pip install 'sielaff[extra]'."""
+    hints = []
+    for path in (ROOT / "src" / "sielaff").rglob("*.py"):
+        text = path.read_text()
+        hints += [(path.name, h) for h in re.findall(r"pip install[^\n]*", text)]
+    assert hints
+    raised = [(n, h) for n, h in hints if "sielaff[" in h and "``" not in h]
+    assert not raised, raised
+
+
+def test_sweep_status_says_where_it_ran(tmp_path):
+    r = subprocess.run([*SIELAFF, "sweep", DECKS / "si.toml", "--workers", "1", "-o",
+                        tmp_path / "s.csv"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "in this process" in r.stderr and "on process" not in r.stderr
