@@ -49,3 +49,27 @@ def test_sweep_status_says_where_it_ran(tmp_path):
                         tmp_path / "s.csv"], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     assert "in this process" in r.stderr and "on process" not in r.stderr
+
+
+def test_port_refuses_another_arithmetic(tmp_path):
+    r = subprocess.run([*SIELAFF, "run", DECKS / "example.dat", "--port", "--arith", "float32",
+                        "-o", tmp_path / "x.asa"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2 and "--port is float64 only" in r.stderr
+    assert not (tmp_path / "x.asa").exists()
+
+
+def test_plot_at_without_linkage_is_refused(tmp_path):
+    for option in (["--at", "90"], ["--point", "3:4:0"]):
+        r = subprocess.run([*SIELAFF, "plot", DECKS / "example.dat", "-o", tmp_path / "p",
+                            *option], capture_output=True, text=True, timeout=300)
+        assert r.returncode == 2 and "add --linkage" in r.stderr, r.stderr
+        assert not (tmp_path / "p").exists() or not any((tmp_path / "p").iterdir())
+
+
+def test_plot_linkage_and_bearings_writes_both(tmp_path):
+    r = subprocess.run([*SIELAFF, "plot", DECKS / "example.dat", "-o", tmp_path / "p",
+                        "--linkage", "--bearings"], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    names = sorted(p.name for p in (tmp_path / "p").iterdir())
+    assert names == ["bearings.png", "linkage.png"]
+    assert r.stdout.split() == [str(tmp_path / "p" / n) for n in ("linkage.png", "bearings.png")]

@@ -257,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--linkage", action="store_true",
                    help="draw the linkage itself to scale (linkage.png): joints, centres of "
                         "mass, the path of G3, toggle limits (the report's Figure 9)")
-    p.add_argument("--at", type=angle_list, default=(40.0,), metavar="DEG[,DEG...]",
+    p.add_argument("--at", type=angle_list, default=None, metavar="DEG[,DEG...]",
                    help="with --linkage: the crank angles drawn (default 40)")
     p.add_argument("--point", type=point_spec, action="append", default=[],
                    metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "

@@ -25,6 +25,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.tools.output import atomic_output
     from sielaff.tools.progress import run_progress
 
+    if args.port and args.arith != "float64":
+        raise CommandError(f"sielaff: --port with --arith {args.arith}: --port is float64 "
+                           "only (every other arithmetic runs on the port already)")
     refuse_overwriting_inputs(args.output, [args.deck] + ([args.program] if args.program
                                                            else []))
     deck = load_runnable(args.deck, args.arith, args.max_sheets)

@@ -521,10 +521,11 @@ def write_plots(deck: Deck, directory: str, only: str | None = None,
 
 def _file_names(args) -> list[str]:
     """The files ``plot`` will write for ``args`` (checked before any work)."""
+    if args.linkage or args.animate:
+        return (["linkage.png"] + (["linkage.gif"] if args.animate else [])
+                + (["bearings.png"] if args.bearings else []))
     if args.bearings:
         return ["bearings.png"]
-    if args.linkage or args.animate:
-        return ["linkage.png"] + (["linkage.gif"] if args.animate else [])
     if args.only == "kinematics":
         return [f"{fig[0]}.png" for fig in KINEMATIC_FIGURES]
     return ["fig12-driving-torque.png"] + [f"{fig[0]}.png" for fig in POLAR_FIGURES]
@@ -542,6 +543,10 @@ def cmd_plot(args) -> int:
         raise CommandError(f"sielaff: {exc}") from None
     if not args.output:
         raise CommandError("sielaff: -o '': an empty folder name")
+    drawing = args.linkage or args.animate
+    if not drawing and (args.at is not None or args.point):
+        raise CommandError(f"sielaff: {'--at' if args.at is not None else '--point'} draws "
+                           "on the linkage: add --linkage")
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
@@ -553,19 +558,20 @@ def cmd_plot(args) -> int:
         raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
     deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate,
                              branch=args.branch, any_kind=True)
+    paths: list[str] = []
+    if args.linkage or args.animate:  # with --bearings too: both drawings
+        from sielaff.tools.plot.linkage import write_linkage
+
+        paths += write_linkage(deck, args.output, args.at or (40.0,), args.point, scene.branch,
+                               args.animate)
     if args.bearings:
         from sielaff.tools.plot.bearings import write_bearings
 
         try:
-            paths = write_bearings(deck, args.output, scene)
+            paths += write_bearings(deck, args.output, scene)
         except ValueError as exc:
             raise CommandError(f"{args.deck}: {exc}") from None
-    elif args.linkage or args.animate:
-        from sielaff.tools.plot.linkage import write_linkage
-
-        paths = write_linkage(deck, args.output, args.at, args.point, scene.branch,
-                              args.animate)
-    else:
+    if not (args.bearings or args.linkage or args.animate):
         paths = write_plots(deck, args.output, args.only, scene)
     for path in paths:
         print(path)
