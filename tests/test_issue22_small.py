@@ -73,3 +73,16 @@ def test_plot_linkage_and_bearings_writes_both(tmp_path):
     names = sorted(p.name for p in (tmp_path / "p").iterdir())
     assert names == ["bearings.png", "linkage.png"]
     assert r.stdout.split() == [str(tmp_path / "p" / n) for n in ("linkage.png", "bearings.png")]
+
+
+def test_max_sheets_warns_on_the_fast_path_as_on_the_port(tmp_path):
+    """The example asks for 37 sheets: --max-sheets 2 and 36 warn on both paths; 37 does
+    not (nothing was cut)."""
+    for port in ([], ["--port"]):
+        for n, warned in ((2, True), (36, True), (37, False)):
+            r = subprocess.run([*SIELAFF, "run", DECKS / "example.dat", "--max-sheets", str(n),
+                                *port, "-o", tmp_path / "x.asa"], capture_output=True,
+                               text=True, timeout=300)
+            assert r.returncode == 0, r.stderr
+            text = f"stopped after {n} sheets (--max-sheets)"
+            assert (text in r.stderr) == warned, (port, n, r.stderr)
