@@ -86,3 +86,17 @@ def test_max_sheets_warns_on_the_fast_path_as_on_the_port(tmp_path):
             assert r.returncode == 0, r.stderr
             text = f"stopped after {n} sheets (--max-sheets)"
             assert (text in r.stderr) == warned, (port, n, r.stderr)
+
+
+def test_diff_of_two_real_listings_ends_in_the_differences(tmp_path):
+    """run --tex 150 against run: many fields differ, some by more digits than Decimal's
+    context holds; diff lists them and exits 1 (listings differ), no traceback."""
+    a, b = tmp_path / "a.asa", tmp_path / "b.asa"
+    for path, extra in ((a, []), (b, ["--tex", "150"])):
+        r = subprocess.run([*SIELAFF, "run", *extra, DECKS / "example.dat", "-o", path],
+                           capture_output=True, text=True, timeout=300)
+        assert r.returncode == 0, r.stderr
+    r = subprocess.run([*SIELAFF, "diff", b, a], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 1, r.stderr
+    assert "Traceback" not in r.stderr and "InvalidOperation" not in r.stdout + r.stderr
+    assert "units in the last digit" in r.stdout
