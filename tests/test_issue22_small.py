@@ -100,3 +100,16 @@ def test_diff_of_two_real_listings_ends_in_the_differences(tmp_path):
     assert r.returncode == 1, r.stderr
     assert "Traceback" not in r.stderr and "InvalidOperation" not in r.stdout + r.stderr
     assert "units in the last digit" in r.stdout
+
+
+def test_quirks_are_numbered_in_order():
+    text = (ROOT / "docs" / "quirks.md").read_text()
+    numbers = [int(n) for n in re.findall(r"^\| (\d+) \|", text, re.M)]
+    assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 11
+
+
+def test_design_md_points_to_an_si_section_that_exists():
+    design = (ROOT / "docs" / "design.md").read_text()
+    conventions = (ROOT / "docs" / "conventions.md").read_text()
+    assert "SI" in design and "conventions.md" in design
+    assert "\n## SI\n" in conventions and "N m" in conventions and "kg m^2" in conventions
