@@ -113,3 +113,23 @@ def test_design_md_points_to_an_si_section_that_exists():
     conventions = (ROOT / "docs" / "conventions.md").read_text()
     assert "SI" in design and "conventions.md" in design
     assert "\n## SI\n" in conventions and "N m" in conventions and "kg m^2" in conventions
+
+
+def test_check_json_and_output_file(tmp_path):
+    import json
+
+    for kind, turns in (("triple-rocker", False), ("double-crank", True)):
+        r = subprocess.run([*SIELAFF, "check", DECKS / f"{kind}.toml", "--format", "json"],
+                           capture_output=True, text=True, timeout=300)
+        assert r.returncode == 0, r.stderr
+        data = json.loads(r.stdout)
+        assert data["kind"] == kind and data["turns_fully"] is turns and data["status"] == 0
+        assert len(data["toggles_deg"]) == (0 if turns else 2)
+        assert any("Verdict: usable" in line for line in data["report"])
+    out = tmp_path / "c.txt"
+    r = subprocess.run([*SIELAFF, "check", DECKS / "example.dat", "-o", out],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0 and r.stdout == "" and "Verdict: usable" in out.read_text()
+    r = subprocess.run([*SIELAFF, "check", DECKS / "example.dat", "-o", "-"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.stdout == out.read_text()

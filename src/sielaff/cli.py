@@ -239,6 +239,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")
+    p.add_argument("--format", choices=("text", "json"), default="text",
+                   help="text (default) or json: the linkage's kind, Grashof sum and margin, "
+                        "toggles, arcs, status and the report's lines")
+    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
     p.add_argument("--crank-rocker", action="store_true",
                    help="require a crank-rocker (the 1966 program's test): exit 3 if not")
 

@@ -642,7 +642,44 @@ def cmd_check(args) -> int:
 
         scene = dataclasses.replace(scene, branch=args.branch)
     rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False))
-    write_stdout(rep.text)  # a closed pipe keeps the status and the error line
+    text = rep.text if getattr(args, "format", "text") == "text" else report_json(deck, rep)
+    output = getattr(args, "output", None)
+    if output not in (None, "-"):
+        from sielaff.tools.common import refuse_overwriting_inputs
+        from sielaff.tools.output import atomic_output
+
+        refuse_overwriting_inputs(output, [args.deck])
+        with atomic_output(output) as out:
+            out.write(text)
+    else:
+        write_stdout(text)  # a closed pipe keeps the status and the error line
     if rep.error:
         print(rep.error, file=sys.stderr)
     return rep.status
+
+
+def report_json(deck: Deck, rep: CheckReport) -> str:
+    """The report as JSON: the linkage's kind and what decides it (lengths in the deck's
+    unit, angles in degrees), the status and error, and the report's lines."""
+    import json
+
+    m = deck.mechanism
+    try:
+        with np.errstate(all="ignore"):
+            c = linkage_class(m)
+    except (ValueError, ArithmeticError):  # fields no linkage has: the report says why
+        c = None
+
+    def finite(values) -> list[float]:
+        return [float(v) for v in np.ravel(values) if np.isfinite(v)]
+
+    data: dict = {"path": str(deck.path), "units": m.units,
+                  "length_unit": unit_of("length", m.units)}
+    if c is not None and rep.status != EXIT_UNUSABLE:
+        data.update({
+            "kind": c.kind, "grashof_sum": float(c.grashof_sum),
+            "grashof_margin": float(c.grashof_margin), "turns_fully": bool(c.turns_fully),
+            "toggles_deg": finite(c.toggles),
+            "arcs_deg": [[float(a), float(b)] for a, b in (c.arcs or [])]})
+    data.update({"status": rep.status, "error": rep.error, "report": rep.lines})
+    return json.dumps(data, indent=1) + "\n"
