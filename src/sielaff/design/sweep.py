@@ -186,7 +186,7 @@ def column_units(names: list[str], system: str) -> dict[str, str]:
             out[n] = "-"
             continue
         base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
-        out[n] = unit(base, system)
+        out[n] = unit(base, system) if base else "-"
     return out
 
 
