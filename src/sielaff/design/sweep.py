@@ -34,7 +34,7 @@ from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 
 __all__ = ["BLOCK", "NO_WORKER_SECONDS", "SWEEPABLE", "ClusterLost", "Grid", "block",
-           "iter_blocks"]
+           "column_units", "iter_blocks", "sweep_frame"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
@@ -174,3 +174,32 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None 
             yield _gather(client, arr)
         else:
             yield arr.compute(scheduler="threads", num_workers=workers)
+
+
+def column_units(names: list[str], system: str) -> dict[str, str]:
+    """The unit of each column of a sweep (``"-"`` for DESIGN, BALANCE and KIND)."""
+    from sielaff.quantities import unit
+
+    out = {}
+    for n in names:
+        if n in ("DESIGN", "BALANCE", "KIND"):
+            out[n] = "-"
+            continue
+        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
+        out[n] = unit(base, system) if base else "-"
+    return out
+
+
+def sweep_frame(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None = None,
+                **kwargs: Any) -> Any:
+    """The whole sweep as a pandas DataFrame (the ``frames`` extra): one row per design,
+    indexed by DESIGN, the units in ``frame.attrs["units"]`` (``iter_blocks``' keywords
+    choose the backend)."""
+    import pandas as pd
+
+    cols = columns(grid)
+    data = np.concatenate(list(iter_blocks(grid, n, cf, scene, **kwargs)), axis=0)
+    frame = pd.DataFrame(data, columns=cols).set_index("DESIGN")
+    frame.index = frame.index.astype(int)
+    frame.attrs["units"] = column_units(cols, grid.base.units)
+    return frame
