@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -245,3 +246,68 @@ def test_without_scipy_one_line_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "scipy.integrate", None)
     with pytest.raises(SimulationError, match=r'pip install -e "\.\[dynamics\]"'):
         simulate(EXAMPLE, Motor.constant(10.0))
+
+
+# --- the command line -------------------------------------------------------------------
+
+MOTOR_DECK = Path(__file__).resolve().parent.parent / "decks" / "motor.toml"
+
+
+def run_cli(argv, capsys):
+    from sielaff.cli import main
+
+    status = main(argv)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_cli_writes_the_time_history_with_units_and_a_plot(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    csv, png = tmp_path / "m.csv", tmp_path / "m.png"
+    status, out, err = run_cli(["simulate", str(MOTOR_DECK), "-o", str(csv), "--plot",
+                                str(png)], capsys)
+    assert status == 0 and out == ""
+    assert err.startswith("sielaff: simulate: 20 revolutions in ") and err.count("\n") == 1
+    lines = csv.read_text().splitlines()
+    assert lines[0] == "t[s],ATH2[deg],TH2D[rad/sec],TH2DD[rad/sec^2],MOTOR[in-lb],TORQ[in-lb]"
+    rows = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    assert rows[0, 2] == 0.0 and rows[-1, 1] == pytest.approx(20 * 360.0)  # from rest, 20 revs
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("motor, match", [
+    ('kind = "diesel"', "[motor] kind = 'diesel'"),
+    ('kind = "linear"\nstall_torque = 10.0', "[motor] has no no_load_speed"),
+    ('kind = "constant"\ntorque = 1.0\nvolts = 3', "unknown key 'volts'"),
+    ('kind = "constant"\ntorque = 1.0\nflywheel = -2.0', "flywheel = -2"),
+    ('kind = "linear"\nstall_torque = 10.0\nno_load_speed = -5.0', "no_load_speed = -5"),
+    ('kind = "constant"\ntorque = 1.0\nsteady = "yes"', "steady = 'yes'"),
+])
+def test_cli_bad_motor_is_one_line(tmp_path, capsys, motor, match):
+    text = MOTOR_DECK.read_text().split("\n[motor]\n")[0] + "\n[motor]\n" + motor + "\n"
+    spec = tmp_path / "bad.toml"
+    spec.write_text(text)
+    out_csv = tmp_path / "never.csv"
+    status, out, err = run_cli(["simulate", str(spec), "-o", str(out_csv)], capsys)
+    assert status == 2 and out == "" and err.count("\n") == 1 and match in err
+    assert "Traceback" not in err and not out_csv.exists()
+
+
+def test_cli_without_scipy_names_the_extra(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "scipy.integrate", None)
+    status, out, err = run_cli(["simulate", str(MOTOR_DECK), "-o", str(tmp_path / "x.csv")],
+                               capsys)
+    assert status == 2 and out == ""
+    assert err == 'sielaff: simulate needs scipy: pip install -e ".[dynamics]"\n'
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_cli_stall_is_reported(tmp_path, capsys):
+    text = MOTOR_DECK.read_text().split("\n[motor]\n")[0]
+    text += '\n[motor]\nkind = "constant"\ntorque = 5.0\nspeed = 1.0\n'
+    text = text.replace("coupler = 8.0", "coupler = 40.0", 1)
+    text += '\n[scene]\ngravity = "down"\n'
+    spec = tmp_path / "weak.toml"
+    spec.write_text(text)
+    status, out, err = run_cli(["simulate", str(spec), "-o", str(tmp_path / "w.csv")], capsys)
+    assert status == 0 and err.startswith("sielaff: simulate: stalled: the crank stopped")
