@@ -164,7 +164,9 @@ def main() -> None:
         "a time constant (J + F) / k near 1/2000 of a revolution), rtol 1e-6:", "",
         "| method | rtol | evaluations | CPU s | wall s | outcome |",
         "|---|---:|---:|---:|---:|---|", *stiff, "",
-        "The flywheel round trip: `design.flywheel` sizes the inertia for cf at a constant "
+        "Wall time is 4 to 6 times the CPU time on this shared machine (other jobs ran "
+        "beside it); the CPU column is the cost.  The flywheel round trip: "
+        "`design.flywheel` sizes the inertia for cf at a constant "
         "50 rad/sec; `simulate(..., steady=True)` with that flywheel and a linear motor of "
         "small slope k (no torque at 50 rad/sec; k = 0.005 E / (pi cf w^2), so its torque "
         "hardly changes within the speed band) gives the cf below.  The bound the "
