@@ -311,3 +311,37 @@ def test_cli_stall_is_reported(tmp_path, capsys):
     spec.write_text(text)
     status, out, err = run_cli(["simulate", str(spec), "-o", str(tmp_path / "w.csv")], capsys)
     assert status == 0 and err.startswith("sielaff: simulate: stalled: the crank stopped")
+
+
+def test_punch_leaves_the_motor_out(capsys):
+    status, out, _ = run_cli(["punch", str(MOTOR_DECK)], capsys)
+    assert status == 0
+    assert out == (MOTOR_DECK.parent / "example.dat").read_text()
+
+
+# --- design.flywheel over cycles other than one revolution -----------------------------
+
+@pytest.mark.parametrize("cycle", [360.0, 720.0, 1080.0])
+def test_flywheel_cycle_energy_is_the_integral_over_the_cycle(cycle):
+    from sielaff.design.flywheel import flywheel_from_torque
+
+    # T = 100 + A sin(2 pi phi / cycle), phi in degrees; with th = phi in radians,
+    # E(th) = integral of A sin(360 th / cycle) d th = -A (cycle / 360) cos(360 th / cycle),
+    # whose max - min is 2 A cycle / 360
+    a, n = 50.0, 4096
+    th = np.arange(n) * (cycle / n)
+    f = flywheel_from_torque(100.0 + a * np.sin(2 * np.pi * th / cycle), 50.0, 0.05, cycle)
+    expected = 2.0 * a * cycle / 360.0
+    assert float(f.energy) == pytest.approx(expected, rel=1e-12)
+    assert f.theta2[-1] == pytest.approx(cycle * (n - 1) / n)
+    assert float(f.inertia) == pytest.approx(expected / (0.05 * 2500.0), rel=1e-12)
+
+
+def test_flywheel_default_cycle_is_bit_for_bit_the_revolution():
+    a = flywheel(EXAMPLE, 0.05)
+    b = flywheel(EXAMPLE, 0.05, cycle=360.0)
+    c = flywheel(EXAMPLE, 0.05, n=7200, cycle=720.0)  # the linkage repeats: same energy
+    assert float(a.energy) == float(b.energy)
+    assert float(c.energy) == pytest.approx(float(a.energy), rel=1e-12)
+    with pytest.raises(ValueError, match="cycle = -1"):
+        flywheel(EXAMPLE, 0.05, cycle=-1)
