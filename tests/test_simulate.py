@@ -345,3 +345,10 @@ def test_flywheel_default_cycle_is_bit_for_bit_the_revolution():
     assert float(c.energy) == pytest.approx(float(a.energy), rel=1e-12)
     with pytest.raises(ValueError, match="cycle = -1"):
         flywheel(EXAMPLE, 0.05, cycle=-1)
+
+
+def test_cli_needs_a_spec_with_a_motor(tmp_path, capsys):
+    status, _, err = run_cli(["simulate", str(MOTOR_DECK.parent / "example.dat")], capsys)
+    assert status == 2 and err.endswith("simulate reads a TOML spec with a [motor] table\n")
+    status, _, err = run_cli(["simulate", str(MOTOR_DECK.parent / "example.toml")], capsys)
+    assert status == 2 and "no [motor] table" in err and err.count("\n") == 1
