@@ -472,65 +472,6 @@ def _float(where: str, value) -> float:
     return x
 
 
-#: A [motor] table's keys for each kind (besides kind and the run's keys).
-MOTOR_KINDS = {"constant": ("torque",), "linear": ("stall_torque", "no_load_speed"),
-               "induction": ("rated_torque", "rated_speed", "breakdown_torque",
-                             "synchronous_speed")}
-MOTOR_RUN = ("flywheel", "revolutions", "steady", "speed")
-
-
-def motor_of(spec: dict, path: str = "<spec>") -> dict:
-    """The spec's ``[motor]`` for ``sielaff simulate``: ``{"motor": Motor, "flywheel",
-    "revolutions", "steady", "speed"}``::
-
-        [motor]
-        kind = "linear"           # constant (torque), linear (stall_torque, no_load_speed)
-        stall_torque = 2000.0     # or induction (rated_torque, rated_speed,
-        no_load_speed = 55.0      #   breakdown_torque, synchronous_speed); torques in the
-        flywheel = 2.0            #   spec's units, speeds rad/sec; flywheel inertia
-        revolutions = 20          #   (in-lb-sec^2 or kg m^2); speed: the crank speed at
-        steady = false            #   the start (default TH2D), 0 from rest
-
-    A missing, unknown or bad key is one line naming it.
-    """
-    from sielaff.dynamics.motor import Motor
-
-    where = f"{path}: [motor]"
-    if "motor" not in spec:
-        raise PunchError(f"{path}: no [motor] table (kind = \"constant\", \"linear\" or "
-                         "\"induction\" and its parameters)")
-    table = _table(where, spec["motor"])
-    kind = table.get("kind")
-    if kind not in MOTOR_KINDS:
-        raise PunchError(f"{where} kind = {kind!r}: \"constant\", \"linear\" or "
-                         "\"induction\"")
-    _unknown(where, table, ("kind", *MOTOR_KINDS[kind], *MOTOR_RUN))
-    params = []
-    for key in MOTOR_KINDS[kind]:
-        if key not in table:
-            raise PunchError(f"{where} has no {key} (a {kind} motor needs "
-                             f"{', '.join(MOTOR_KINDS[kind])})")
-        params.append(_float(f"{where} {key}", table[key]))
-    try:
-        motor = getattr(Motor, kind)(*params)
-    except ValueError as exc:
-        raise PunchError(f"{where}: {exc}") from None
-    out = {"motor": motor, "flywheel": _float(f"{where} flywheel", table.get("flywheel", 0)),
-           "revolutions": _float(f"{where} revolutions", table.get("revolutions", 20)),
-           "speed": (None if "speed" not in table
-                     else _float(f"{where} speed", table["speed"]))}
-    steady = table.get("steady", False)
-    if not isinstance(steady, bool):
-        raise PunchError(f"{where} steady = {steady!r}: true or false")
-    out["steady"] = steady
-    if out["flywheel"] < 0:
-        raise PunchError(f"{where} flywheel = {out['flywheel']:g}: an inertia cannot be "
-                         "negative")
-    if not 0 < out["revolutions"] <= 1e5:
-        raise PunchError(f"{where} revolutions = {out['revolutions']:g}: in (0, 100000]")
-    return out
-
-
 #: The [sweep] table's own keys (the rest are in [sweep.vary]).
 SWEEP_KEYS = ("angles", "cf", "pareto", "vary")
 #: Designs a sweep may ask for (each is one block's share of memory only while it runs).
