@@ -15,6 +15,8 @@ The public API, in one place (everything else is reached through its module):
   angles a linkage can reach; the path, velocity and acceleration of any point.
 * ``flywheel(mechanism, cf)``, ``balance(mechanism)``, ``bearings(mechanism)``: design
   answers (``sielaff.design``, docs/design.md).
+* ``simulate(mechanism, motor, ...)``, ``Motor``: the crank driven by a motor, forward
+  dynamics (``sielaff.dynamics``, docs/effects.md; needs scipy, the ``dynamics`` extra).
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -25,9 +27,9 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
-           "Scene",
+           "Motor", "Scene",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
-           "point_motion", "reachable", "read_deck"]
+           "point_motion", "reachable", "read_deck", "simulate"]
 
 
 def __getattr__(name: str):
@@ -41,4 +43,8 @@ def __getattr__(name: str):
         from sielaff import design
 
         return getattr(design, name)
+    if name in ("simulate", "Motor"):
+        from sielaff import dynamics
+
+        return getattr(dynamics, name)
     raise AttributeError(f"module 'sielaff' has no attribute {name!r}")

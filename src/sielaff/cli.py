@@ -128,6 +128,8 @@ EXAMPLES = {
                "  sielaff balance decks/scene.toml -o out/balanced.toml",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
+    "simulate": "example:\n  sielaff simulate decks/motor.toml -o out/motor.csv --plot "
+                "out/motor.png",
     "report": "example:\n  sielaff report decks/example.dat -o out/example.html",
 }
 
@@ -140,6 +142,7 @@ COMMANDS = {
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
+    "simulate": "sielaff.tools.simulate:cmd_simulate",
     "report": "sielaff.tools.report:cmd_report",
 }
 
@@ -305,6 +308,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")
+
+    p = add("simulate", "the crank driven by the spec's [motor] (forward dynamics): the "
+            "time history as CSV with units, a plot of speed and torque against THETA 2 "
+            "(needs scipy: pip install -e \".[dynamics]\")")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the time history here (atomically) instead of stdout")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="also draw the crank speed and the torques against THETA 2")
 
     p = add("report", "one self-contained HTML page for a deck or spec: its values with "
             "units, kind, peaks, the linkage drawn and animated, the report's figures, "

@@ -234,7 +234,7 @@ def spec_values(spec: dict, path: str = "<spec>"
         keys = sections.setdefault(section, [])
         if key not in keys:
             keys.append(key)
-    _unknown(path, spec, [*sections, "range", "deck", "scene", "sweep"])
+    _unknown(path, spec, [*sections, "range", "deck", "scene", "sweep", "motor"])
     values: dict[str, Decimal] = {}
     for section, keys in sections.items():
         if section not in spec:
