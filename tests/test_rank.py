@@ -1,0 +1,151 @@
+"""synthesis.rank: the order checked against figures computed here, per candidate, straight
+from ``analyze`` (not through design.figures, rank's path), and the Pareto front by brute
+force."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import sielaff
+from sielaff import Scene, synthesis
+from sielaff.mechanism import EXAMPLE
+
+N = 360
+
+
+@pytest.fixture(scope="module")
+def family():
+    fam = synthesis.crank_rocker(45.0, 1.25, rocker=10.0, th2d=10.0)
+    return fam.members(4)
+
+
+def direct(m, branch, scene):
+    """The figures of one candidate from analyze, one design at a time."""
+    th = np.arange(N) * (360.0 / N)
+    r = sielaff.analyze(m, th, ["TORQ", "SHAK", "SHAKM", "FOA", "FA32", "FB34", "FOB",
+                                "GAMMA"], scene=scene.replace(branch=branch))
+    g = r["GAMMA"]
+    return {"TORQ_PEAK": np.max(np.abs(r["TORQ"])),
+            "TORQ_RMS": np.sqrt(np.mean(r["TORQ"] ** 2)),
+            "SHAK_PEAK": np.max(r["SHAK"]), "SHAKM_PEAK": np.max(np.abs(r["SHAKM"])),
+            "FOA_PEAK": np.max(r["FOA"]), "FA32_PEAK": np.max(r["FA32"]),
+            "FB34_PEAK": np.max(r["FB34"]), "FOB_PEAK": np.max(r["FOB"]),
+            "GAMMA_MIN": np.min(np.minimum(g, 180.0 - g))}
+
+
+SCENE = Scene(tex=-20.0, gravity="down")
+
+
+@pytest.mark.parametrize("by", [["TORQ_PEAK"], ["TORQ_RMS"], ["SHAK_PEAK"], ["SHAKM_PEAK"],
+                                ["FOA_PEAK"], ["FB34_PEAK"], ["GAMMA_MIN"],
+                                ["FLYWHEEL_I"]])
+def test_order_matches_direct_figures(family, by):
+    r = synthesis.rank(family, scene=SCENE, by=by, n=N)
+    name = by[0]
+    if name == "FLYWHEEL_I":
+        want = np.array([float(sielaff.design.flywheel(c.mechanism, 0.05, N,
+                                                       scene=SCENE.replace(branch=c.branch))
+                               .inertia) for c in family])
+    else:
+        want = np.array([direct(c.mechanism, c.branch, SCENE)[name] for c in family])
+    np.testing.assert_allclose(r.figures[name], want, rtol=1e-12, atol=1e-12)
+    key = -want if name == "GAMMA_MIN" else want
+    assert list(r.order) == list(np.argsort(key, kind="stable"))
+    # the spread is real: the order is not the given one by accident
+    assert np.ptp(want) > 1e-3 * np.max(np.abs(want))
+
+
+def test_lexicographic_ties(family):
+    """Candidates tied on by[0] (the same linkage twice, with different coupler masses)
+    are ordered by by[1]."""
+    m = family[0].mechanism
+    heavy = m.replace(W3=3 * m.W3, ZI3=3 * m.ZI3)
+    # GAMMA_MIN is kinematic: identical for both; SHAK_PEAK differs
+    r = synthesis.rank([heavy, m], by=["GAMMA_MIN", "SHAK_PEAK"])
+    assert r.figures["GAMMA_MIN"][0] == r.figures["GAMMA_MIN"][1]
+    assert list(r.order) == [1, 0]
+
+
+def brute_pareto(x, y):
+    out = []
+    for i in range(len(x)):
+        if not (np.isfinite(x[i]) and np.isfinite(y[i])):
+            continue
+        dominated = any(x[j] <= x[i] and y[j] <= y[i] and (x[j] < x[i] or y[j] < y[i])
+                        for j in range(len(x)) if j != i)
+        if not dominated:
+            out.append(i)
+    return sorted(out)
+
+
+def test_pareto_brute_force(family):
+    r = synthesis.rank(family, scene=SCENE, by=["TORQ_RMS", "GAMMA_MIN"])
+    x, y = r.figures["TORQ_RMS"], -r.figures["GAMMA_MIN"]
+    want = brute_pareto(x, y)
+    assert sorted(r.pareto) == want
+    assert 1 <= len(want) < len(family)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_pareto_front_random(seed):
+    rng = np.random.default_rng(seed)
+    x = rng.integers(0, 8, 40).astype(float)  # ties drawn on purpose
+    y = rng.integers(0, 8, 40).astype(float)
+    x[rng.integers(0, 40, 3)] = np.nan
+    assert sorted(synthesis.pareto_front(x, y)) == brute_pareto(x, y)
+
+
+def test_not_turning_fully_comes_last(family):
+    """A double-rocker (EXAMPLE with a long crank) has NaN figures and ranks last."""
+    bad = EXAMPLE.replace(R2=13.0)
+    cands = [bad] + [c.mechanism for c in family[:3]]
+    r = synthesis.rank(cands, by=["TORQ_PEAK"])
+    assert r.order[-1] == 0 and np.isnan(r.figures["TORQ_PEAK"][0])
+    assert r.figures["KIND"][0] != r.figures["KIND"][1]
+
+
+def test_mass_model(family):
+    """A denser material scales every force and torque (no TEX, no gravity) by its ratio."""
+    a = synthesis.rank(family[:3], by=["TORQ_PEAK"], mass_model={"density": 0.1})
+    b = synthesis.rank(family[:3], by=["TORQ_PEAK"], mass_model={"density": 0.3})
+    np.testing.assert_allclose(b.figures["TORQ_PEAK"], 3 * a.figures["TORQ_PEAK"], rtol=1e-12)
+    np.testing.assert_allclose(b.figures["GAMMA_MIN"], a.figures["GAMMA_MIN"], rtol=0)
+    c = synthesis.rank(family[:3], by=["TORQ_PEAK"],
+                       mass_model=lambda m: synthesis.masses(m, density=0.3))
+    np.testing.assert_array_equal(c.figures["TORQ_PEAK"], b.figures["TORQ_PEAK"])
+
+
+def test_branch_of_each_candidate_used(family):
+    """A bare Mechanism takes the scene's branch; a result its own."""
+    c = family[0]
+    assert c.branch == "crossed"
+    r = synthesis.rank([c, c.mechanism], scene=Scene(branch="open"), by=["TORQ_PEAK"])
+    assert r.branches == ("crossed", "open")
+
+
+def test_dask_threads_identical(family):
+    pytest.importorskip("dask")
+    a = synthesis.rank(family, scene=SCENE, by=["TORQ_PEAK"], backend="process",
+                       size_of_block=3)
+    b = synthesis.rank(family, scene=SCENE, by=["TORQ_PEAK"], backend="dask", workers=2,
+                       size_of_block=3)
+    for f in a.figures:
+        np.testing.assert_array_equal(a.figures[f], b.figures[f])
+    assert list(a.order) == list(b.order)
+
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"by": ["KIND"]}, "by 'KIND'"), ({"by": []}, "at least one"),
+    ({"pareto": ["TORQ_PEAK"]}, "pareto"), ({"n": 7}, "n = 7"),
+    ({"mass_model": 3}, "mass_model"), ({"backend": "gpu"}, "backend")])
+def test_refusals(family, kwargs, text):
+    with pytest.raises(ValueError, match=text):
+        synthesis.rank(family[:2], **kwargs)
+
+
+def test_refuses_non_candidates():
+    with pytest.raises(ValueError, match="neither a Mechanism"):
+        synthesis.rank([1.0])
+    with pytest.raises(ValueError, match="no candidates"):
+        synthesis.rank([])
