@@ -149,3 +149,84 @@ def test_refuses_non_candidates():
         synthesis.rank([1.0])
     with pytest.raises(ValueError, match="no candidates"):
         synthesis.rank([])
+
+
+# -- sielaff synth (subprocesses) ----------------------------------------------------
+
+import csv as _csv  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+
+from conftest import ROOT  # noqa: E402
+
+
+def synth(*args):
+    return subprocess.run([sys.executable, "-m", "sielaff", "synth", *args], cwd=ROOT,
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_synth_command_csv_and_best_specs(tmp_path):
+    out, best = tmp_path / "o" / "ranked.csv", tmp_path / "best"
+    r = synth("decks/synth.toml", "-o", str(out), "--write-best", str(best))
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.startswith("sielaff synth: 32 candidates from 2 crank_rocker problem(s)")
+    rows = list(_csv.DictReader(out.read_text().splitlines()))
+    assert len(rows) == 32 and [int(x["RANK"]) for x in rows] == list(range(1, 33))
+    assert "TORQ_PEAK[in-lb]" in rows[0] and "GAMMA_MIN[deg]" in rows[0] and "R1[in]" in rows[0]
+    peaks = [float(x["TORQ_PEAK[in-lb]"]) for x in rows]
+    assert peaks == sorted(peaks)
+    # the written best spec, read back as any spec is, has the CSV's figures
+    from sielaff.design.figures import figures
+    from sielaff.tools.common import read_spec_deck
+
+    for k in (1, 2, 3):
+        deck, scene = read_spec_deck(str(best / f"best-{k}.toml"))
+        assert scene.branch == rows[k - 1]["BRANCH"] and scene.tex == -50.0
+        f = figures(deck.mechanism, scene=scene)
+        # each field rounded to what an 8-column field holds (5+ significant digits)
+        assert float(f["TORQ_PEAK"][0]) == pytest.approx(peaks[k - 1], rel=1e-4)
+        assert deck.mechanism.R1 == pytest.approx(float(rows[k - 1]["R1[in]"]), abs=5e-6)
+    assert not (best / "best-4.toml").exists()
+    # the crank-rockers here all run on the crossed branch: no deck, and it says why
+    assert "no deck for best-1: it runs on the crossed branch" in r.stderr
+
+
+def test_synth_writes_decks_where_they_can_hold_it(tmp_path):
+    pytest.importorskip("scipy")
+    spec = tmp_path / "p.toml"
+    spec.write_text(
+        '[synthesis]\nproblem = "path"\nby = ["SHAK_PEAK"]\nspeed = 20.0\nbest = 2\n'
+        '[synthesis.path]\npoints = [[1.1981, 1.9902], [1.416, 2.5342], [0.9572, 2.7561], '
+        '[0.0853, 2.2593], [-0.2794, 1.5458]]\nstarts = 10\n'
+        '[synthesis.vary]\nseed = [1, 2]\n')
+    r = synth(str(spec), "-o", str(tmp_path / "r.csv"), "--write-best", str(tmp_path / "b"))
+    assert r.returncode == 0, r.stderr
+    rows = list(_csv.DictReader((tmp_path / "r.csv").read_text().splitlines()))
+    assert len(rows) == 2
+    for k in (1, 2):
+        deck = sielaff.read_deck(str(tmp_path / "b" / f"best-{k}.dat"))
+        # rounded to what an 8-column field holds: lengths within 5E-6 in
+        assert deck.mechanism.R1 == pytest.approx(float(rows[k - 1]["R1[in]"]), abs=5e-6)
+    run = subprocess.run([sys.executable, "-m", "sielaff", "run",
+                          str(tmp_path / "b" / "best-1.dat")], cwd=ROOT, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "THIS IS NOT A CRANK ROCKER" not in run.stdout and len(run.stdout) > 1000
+
+
+@pytest.mark.parametrize("edit, message, status", [
+    (("problem = \"crank_rocker\"", "problem = \"cam\""), "problem = 'cam'", 2),
+    (("by = [\"TORQ_PEAK\", \"SHAK_PEAK\"]", "by = [\"KIND\"]"), "by = ['KIND']", 2),
+    (("swing = 45.0", "swing = 180.0"), "swing = 180 deg", 2),
+    (("time_ratio = [1.15, 1.25]", "colour = [1]"), "'colour'", 2),
+    (("members = 8", "members = 8\nwobble = 1"), "unknown key 'wobble'", 2),
+])
+def test_synth_errors_are_one_line(tmp_path, edit, message, status):
+    spec = tmp_path / "s.toml"
+    spec.write_text((ROOT / "decks" / "synth.toml").read_text().replace(*edit))
+    out = tmp_path / "r.csv"
+    out.write_text("old\n")
+    r = synth(str(spec), "-o", str(out))
+    assert r.returncode == status, r.stderr
+    assert len(r.stderr.splitlines()) == 1 and message in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and out.read_text() == "old\n"

@@ -125,3 +125,69 @@ def test_refusals(kwargs, text):
 def test_refuses_a_nominal_that_does_not_turn():
     with pytest.raises(ValueError, match="whole revolution"):
         design.tolerance(EXAMPLE.replace(R2=13.0), {"R1": 0.01}, n=5)
+
+
+# -- sielaff tolerance (subprocesses) -------------------------------------------------
+
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+
+from conftest import ROOT  # noqa: E402
+
+
+def run_tolerance(*args):
+    return subprocess.run([sys.executable, "-m", "sielaff", "tolerance", *args], cwd=ROOT,
+                          capture_output=True, text=True, timeout=600)
+
+
+def small_spec(tmp_path, edit=None):
+    text = (ROOT / "decks" / "tolerance.toml").read_text().replace("n = 2000", "n = 64")
+    if edit:
+        text = text.replace(*edit)
+    spec = tmp_path / "t.toml"
+    spec.write_text(text)
+    return spec
+
+
+def test_tolerance_command_prints_the_table_with_units(tmp_path):
+    spec = small_spec(tmp_path)
+    r = run_tolerance(str(spec))
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    lines = r.stdout.splitlines()
+    assert lines[0].startswith(f"sielaff tolerance: {spec} (units in-lb-sec), 64 samples")
+    row = next(x for x in lines if x.split()[:2] == ["TORQ_PEAK", "in-lb"])
+    assert next(x for x in lines if x.split()[:2] == ["GAMMA_MIN", "deg"])
+    # the numbers are the API's, for the same spec
+    from sielaff.tools.common import read_spec_deck
+
+    text = spec.read_text()
+    mech_only = tmp_path / "m.toml"
+    mech_only.write_text(text[:text.index("[tolerance]")])
+    deck, scene = read_spec_deck(str(mech_only))
+    t = design.tolerance(deck.mechanism, {"R1": 0.005, "R2": 0.005, "R3": 0.005, "R4": 0.005,
+                                          "ADEL3": 0.5, "RG3": 0.05, "W3": 0.1}, n=64, seed=1,
+                         scene=scene)
+    assert float(row.split()[2]) == pytest.approx(t.nominal["TORQ_PEAK"], rel=1e-4)
+    assert float(row.split()[4]) == pytest.approx(t.std["TORQ_PEAK"], rel=1e-4)
+    # --workers 2 (dask threads when installed) prints the same table; -o writes it
+    out = tmp_path / "o" / "t.txt"
+    r2 = run_tolerance(str(spec), "--workers", "2", "-o", str(out))
+    assert r2.returncode == 0 and out.read_text() == r.stdout
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("distribution = \"normal\"", "distribution = \"cauchy\""), "distribution = 'cauchy'"),
+    (("R1 = 0.005", "R9 = 0.005"), "'R9' is not a field"),
+    (("R1 = 0.005", "R1 = -0.005"), "deviations R1"),
+    (("n = 64", "n = 0"), "[tolerance] n = 0"),
+    (("seed = 1", "seed = 1\ncolour = 2"), "unknown key 'colour'"),
+    (("crank = 4.0", "crank = 13.0"), "NOT A CRANK ROCKER"),
+])
+def test_tolerance_errors_are_one_line(tmp_path, edit, message):
+    spec = small_spec(tmp_path, edit)
+    out = tmp_path / "t.txt"
+    out.write_text("old\n")
+    r = run_tolerance(str(spec), "-o", str(out))
+    assert r.returncode in (2, 3), r.stderr
+    assert len(r.stderr.splitlines()) == 1 and message in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and out.read_text() == "old\n"

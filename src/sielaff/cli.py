@@ -127,6 +127,8 @@ EXAMPLES = {
                "  sielaff balance decks/scene.toml -o out/balanced.toml",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
+    "synth": "example:\n  sielaff synth decks/synth.toml -o out/ranked.csv --write-best out/best",
+    "tolerance": "example:\n  sielaff tolerance decks/tolerance.toml",
 }
 
 
@@ -138,6 +140,8 @@ COMMANDS = {
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
+    "synth": "sielaff.tools.synth:cmd_synth",
+    "tolerance": "sielaff.tools.tolerance:cmd_tolerance",
 }
 
 
@@ -283,6 +287,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
                         "(e.g. tcp://host:8786)")
+
+    p = add("synth", "synthesise linkages from a spec's [synthesis] (crank_rocker, function, "
+            "motion or path) and rank them by dynamics in its [scene]: a CSV, best first")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the ranked table here (atomically) instead of stdout")
+    p.add_argument("--write-best", metavar="DIR",
+                   help="also write the [synthesis] best-ranked candidates as DIR/best-K.toml "
+                        "specs, and DIR/best-K.dat decks where a deck can hold them")
+
+    p = add("tolerance", "a Monte Carlo of a spec's [tolerance] deviations: per design "
+            "figure the nominal, mean, std, 5/95 percentiles and first-order sensitivities")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write the table here (atomically) instead of stdout")
+    p.add_argument("--workers", type=worker_count, default=None, metavar="N",
+                   help="N > 1: dask's local threads when dask is installed (the same "
+                        "numbers); default: this process")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")
