@@ -230,3 +230,33 @@ def test_synth_errors_are_one_line(tmp_path, edit, message, status):
     assert r.returncode == status, r.stderr
     assert len(r.stderr.splitlines()) == 1 and message in r.stderr, r.stderr
     assert "Traceback" not in r.stderr and out.read_text() == "old\n"
+
+
+# -- docs/synthesis.md's ranking and tolerance examples are current --------------------
+
+def test_the_ranking_doc_is_current():
+    import importlib.util
+    import re
+
+    spec = importlib.util.spec_from_file_location("make_ranking",
+                                                  ROOT / "docs" / "make_ranking.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    doc = (ROOT / "docs" / "synthesis.md").read_text()
+    number = re.compile(r"[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+
+    def close(a: str, b: str) -> bool:  # within the last printed digit
+        x, y = float(a), float(b)
+        digits = len(re.sub(r"[^0-9]", "", a.split("e")[0].split("E")[0]).lstrip("0")) or 1
+        exp = int(f"{abs(x):e}".split("e")[1]) if x else 0
+        return abs(x - y) <= 10.0 ** (exp - digits + 1) * 1.0001
+
+    assert close("1.2345", "1.2346") and not close("1.2345", "1.2347")
+    for name, (begin, end) in mod.MARKERS.items():
+        old = doc.split(begin, 1)[1].split(end, 1)[0].lstrip("\n")
+        new = mod.block(name)
+        assert number.sub("#", old) == number.sub("#", new), f"{name}: the words differ"
+        a, b = number.findall(old), number.findall(new)
+        assert len(a) == len(b) > 50
+        bad = [(x, y) for x, y in zip(a, b) if not close(x, y)]
+        assert not bad, bad[:5]
