@@ -71,14 +71,14 @@ def _plain(v: Any) -> Any:
     return v
 
 
-def _function(name: Any, where: str):
+def _function(name: Any):
     import numpy as np
 
     table = {"log10": np.log10, "log": np.log, "exp": np.exp, "sqrt": np.sqrt,
              "square": np.square, "cube": lambda x: x ** 3, "reciprocal": np.reciprocal,
              "sin": np.sin, "cos": np.cos, "tan": np.tan}
     if name not in table:
-        raise ValueError(f"{where} f = {name!r}: one of {', '.join(FUNCTIONS)}")
+        raise ValueError(f"f = {name!r}: one of {', '.join(FUNCTIONS)}")
     return table[name]
 
 
@@ -167,7 +167,7 @@ def solve(problem: str, params: dict, speed: float, units: str, where: str) -> l
             fam = synthesis.crank_rocker(th2d=speed, units=units, **p)
             return fam.members(members)
         if problem == "function":
-            p["f"] = _function(p.get("f"), where)
+            p["f"] = _function(p.get("f"))
             return [synthesis.function(th2d=speed, units=units, **p)]
         if problem == "motion":
             res = synthesis.motion(th2d=abs(speed), units=units, **p)
