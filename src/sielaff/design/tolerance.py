@@ -247,8 +247,8 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
             p5, p95 = np.percentile(col[ok], [5.0, 95.0])
             out["p5"][f], out["p95"][f] = float(p5), float(p95)
         else:
-            for k in ("mean", "std", "p5", "p95"):
-                out[k][f] = math.nan
+            for stat in ("mean", "std", "p5", "p95"):
+                out[stat][f] = math.nan
         out["predicted"][f] = float(math.sqrt(sum((sens[f][names[j]] * sigma[j]) ** 2
                                                   for j in range(len(names)))))
     return Tolerance(out["nominal"], out["mean"], out["std"], out["p5"], out["p95"],
