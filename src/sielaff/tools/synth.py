@@ -47,6 +47,8 @@ import sys
 from decimal import Decimal
 from typing import Any
 
+import numpy as np  # module level: the ulp-nudge harness reaches the functions f names
+
 #: The functions ``[synthesis.function] f`` may name.
 FUNCTIONS = ("log10", "log", "exp", "sqrt", "square", "cube", "reciprocal", "sin", "cos",
              "tan")
@@ -72,8 +74,6 @@ def _plain(v: Any) -> Any:
 
 
 def _function(name: Any):
-    import numpy as np
-
     table = {"log10": np.log10, "log": np.log, "exp": np.exp, "sqrt": np.sqrt,
              "square": np.square, "cube": lambda x: x ** 3, "reciprocal": np.reciprocal,
              "sin": np.sin, "cos": np.cos, "tan": np.tan}
@@ -185,8 +185,6 @@ def _cell(v: float) -> str:
 
 
 def cmd_synth(args) -> int:
-    import numpy as np
-
     from sielaff import synthesis
     from sielaff.design.figures import FIGURES
     from sielaff.engine.classify import KINDS, linkage_class
