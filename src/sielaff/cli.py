@@ -130,6 +130,8 @@ EXAMPLES = {
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
     "simulate": "example:\n  sielaff simulate decks/motor.toml -o out/motor.csv --plot "
                 "out/motor.png",
+    "synth": "example:\n  sielaff synth decks/synth.toml -o out/ranked.csv --write-best out/best",
+    "tolerance": "example:\n  sielaff tolerance decks/tolerance.toml",
     "report": "example:\n  sielaff report decks/example.dat -o out/example.html",
 }
 
@@ -143,6 +145,8 @@ COMMANDS = {
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
     "simulate": "sielaff.tools.simulate:cmd_simulate",
+    "synth": "sielaff.tools.synth:cmd_synth",
+    "tolerance": "sielaff.tools.tolerance:cmd_tolerance",
     "report": "sielaff.tools.report:cmd_report",
 }
 
@@ -317,6 +321,24 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the time history here (atomically) instead of stdout")
     p.add_argument("--plot", metavar="FILE.png",
                    help="also draw the crank speed and the torques against THETA 2")
+
+    p = add("synth", "synthesise linkages from a spec's [synthesis] (crank_rocker, function, "
+            "motion or path) and rank them by dynamics in its [scene]: a CSV, best first")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the ranked table here (atomically) instead of stdout")
+    p.add_argument("--write-best", metavar="DIR",
+                   help="also write the [synthesis] best-ranked candidates as DIR/best-K.toml "
+                        "specs, and DIR/best-K.dat decks where a deck can hold them")
+
+    p = add("tolerance", "a Monte Carlo of a spec's [tolerance] deviations: per design "
+            "figure the nominal, mean, std, 5/95 percentiles and first-order sensitivities")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write the table here (atomically) instead of stdout")
+    p.add_argument("--workers", type=worker_count, default=None, metavar="N",
+                   help="N > 1: dask's local threads when dask is installed (the same "
+                        "numbers); default: this process")
 
     p = add("report", "one self-contained HTML page for a deck or spec: its values with "
             "units, kind, peaks, the linkage drawn and animated, the report's figures, "
