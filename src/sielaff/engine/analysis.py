@@ -316,6 +316,9 @@ def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Result
     if out is not None:
         _check_out(out, th.shape)
     sc = req.scene
+    if sc.friction is not None or sc.elements:
+        raise ValueError("backend='numba' does not model pin friction, springs or dampers: "
+                         "use backend='numpy'")
     table = compiled_results(req.mechanism, th, sc.tex, th2dd=sc.th2dd, gravity=sc.gravity,
                              loads=sc.loads, branch=sc.branch)
     index = {name: i for i, name in enumerate(model.results)}
