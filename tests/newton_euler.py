@@ -121,7 +121,10 @@ def solve(m, th2_deg, near, *, a2=0.0, tex=0.0, elements=(), mur=(0.0,) * 4,
         p_ext += (f * v.conjugate()).real + ld.torque * w[ld.link]
     Mo[4] += tex
     rel = (w2, w[3] - w2, w[4] - w[3], w[4])
-    sg = [float(np.sign(x)) for x in rel]
+    # a relative rotation within roundoff of zero (1e-12 of the fastest link) is zero:
+    # the sign of Coulomb friction there is not determined by the motion
+    fast = max(abs(x) for x in (w2, w[3], w[4]))
+    sg = [0.0 if abs(x) <= 1e-12 * fast else float(np.sign(x)) for x in rel]
 
     def nine(T):
         c = {2: sg[1] * T[1] - sg[0] * T[0], 3: sg[2] * T[2] - sg[1] * T[1],

@@ -174,8 +174,8 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
         new = torques([f0_f[i][idx] + c[i] for i in range(8)])
         change = np.max(np.abs(np.array(new) - np.array(t)), axis=0)
         scale = np.max(np.array(new), axis=0)
-        done = change <= friction_tol * scale  # False for NaN and inf
         blown = ~np.isfinite(scale)
+        done = (change <= friction_tol * scale) & ~blown  # False for NaN and inf
         for i in range(9):
             corr[i][idx[done]] = c[i][done]
         iterations[idx[done]] = k
