@@ -112,8 +112,8 @@ from __future__ import annotations
 from sielaff.engine import forces
 from sielaff.engine.analysis import AssemblyWarning, Request, Results, analyze, plan, prepare
 from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
-from sielaff.engine.fourbar import FOURBAR, INPUTS, KINEMATIC_OUTPUTS, OUTPUTS
 from sielaff.engine.elements import Damper, Spring
+from sielaff.engine.fourbar import FOURBAR, INPUTS, KINEMATIC_OUTPUTS, OUTPUTS
 from sielaff.engine.friction import FrictionWarning, PinFriction
 from sielaff.engine.loads import Load
 from sielaff.engine.outputs import RESULTS, VECTORS

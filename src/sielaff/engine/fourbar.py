@@ -67,4 +67,6 @@ KINEMATIC_OUTPUTS = tuple(
 )
 
 #: Inputs seeded into the namespace by the model and its effects (for the 1966 scene).
-INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS")
+INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS",
+                                     "elements", "NELEMENTS", "MUR_O2", "MUR_A", "MUR_B",
+                                     "MUR_O4", "friction_tol", "friction_max_iter")
