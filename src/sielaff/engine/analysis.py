@@ -185,8 +185,8 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
         ``ath2``, the mechanism's fields and the scene's arrays; ``not_assembled`` counts
         the positions where the loop cannot close (their results are NaN; an
         :class:`AssemblyWarning` says how many).  TORQ is the total drive torque;
-        ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and ``TORQ_TEX`` are its parts
-        (docs/effects.md).
+        ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS``, ``TORQ_TEX``,
+        ``TORQ_ELEMENTS`` and ``TORQ_FRICTION`` are its parts (docs/effects.md).
 
     Shapes that do not broadcast are a ValueError naming the fields, and so is a
     mechanism no linkage can have (:func:`sielaff.mechanism.validate`) or a scene value
