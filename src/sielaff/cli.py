@@ -30,6 +30,7 @@ from sielaff.tools.common import (
     EXIT_INTERRUPTED,
     CommandError,
     Terminated,
+    finish_signals,
     install_signal_handlers,
     silence_stdout,
 )
@@ -127,6 +128,7 @@ EXAMPLES = {
                "  sielaff balance decks/scene.toml -o out/balanced.toml",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
+    "report": "example:\n  sielaff report decks/example.dat -o out/example.html",
 }
 
 
@@ -138,6 +140,7 @@ COMMANDS = {
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
+    "report": "sielaff.tools.report:cmd_report",
 }
 
 
@@ -284,6 +287,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
                         "(e.g. tcp://host:8786)")
 
+    p = add("report", "one self-contained HTML page for a deck or spec: its values with "
+            "units, kind, peaks, the linkage drawn and animated, the report's figures, "
+            "bearings, balancing, the 1966 quirks (needs matplotlib)")
+    p.add_argument("deck", metavar="DECK|SPEC.toml")
+    p.add_argument("-o", "--output", required=True, metavar="FILE.html",
+                   help="write the page here (atomically; - for stdout)")
+    p.add_argument("--at", type=float, default=40.0, metavar="DEG",
+                   help="the crank angle the linkage is drawn at (default 40)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly (default: the spec's [scene] branch, else open)")
+
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")
     p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
@@ -299,7 +313,11 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    install_signal_handlers()
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # what made an output (report)
+    from sielaff.tools import output
+
+    output.committed.clear()  # what this run replaces (main may run more than once)
+    install_signal_handlers(process=_PROCESS)
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
     if sys.stdout is None:  # started with >&-
@@ -308,10 +326,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         else:
             return _closed_stream()
     debug = getattr(args, "debug", False)
-    with warnings.catch_warnings():
-        # A Python warning becomes one diagnostic line, never source text and a path.
-        warnings.showwarning = _warning_line
-        return _dispatch(args, debug)
+    try:
+        with warnings.catch_warnings():
+            # A Python warning becomes one diagnostic line, never source text and a path.
+            warnings.showwarning = _warning_line
+            return _dispatch(args, debug)
+    finally:
+        _flush()
+        finish_signals()
+
+
+def _flush() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
 
 
 def _closed_stream() -> int:
@@ -331,6 +361,8 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.output import changed_note
+
     try:
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
@@ -342,13 +374,12 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     except KeyboardInterrupt:
         if debug:
             raise
-        print("sielaff: interrupted; no output file was changed", file=sys.stderr)
+        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Terminated as exc:
         if debug:
             raise
-        print(f"sielaff: terminated by {exc.name}; no output file was changed",
-              file=sys.stderr)
+        print(f"sielaff: terminated by {exc.name}; {changed_note()}", file=sys.stderr)
         return exc.status
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.
@@ -362,6 +393,38 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         return EXIT_DECK
 
 
+#: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS
+#: routine, so the pool is start-up cost and nothing else (benchmarks/listing.py measures
+#: it).  These ask the common BLAS builds for one thread.
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
+
+
+def one_blas_thread() -> None:
+    """Ask for a BLAS of one thread, unless the user set the variable: before numpy loads
+    (``import sielaff.cli`` does not load it), so only the command's entry points call it."""
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+
+
+#: True when main runs as the ``sielaff`` process (``entry``), not called in-process.
+_PROCESS = False
+
+
 def entry() -> None:
-    """Console-script entry point."""
-    sys.exit(main())
+    """Console-script entry point (and ``python -m sielaff``).
+
+    A signal that arrives after the command has ended but before main returns (a few
+    instructions) is reported here as _dispatch would; after that, signals are ignored
+    (``finish_signals``)."""
+    global _PROCESS
+    _PROCESS = True
+    one_blas_thread()
+    try:
+        status = main()
+    except (KeyboardInterrupt, Terminated) as exc:
+        from sielaff.tools.output import changed_note
+
+        what = f"terminated by {exc.name}" if isinstance(exc, Terminated) else "interrupted"
+        print(f"sielaff: {what}; {changed_note()}", file=sys.stderr)
+        status = getattr(exc, "status", EXIT_INTERRUPTED)
+    sys.exit(status)

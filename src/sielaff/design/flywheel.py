@@ -115,7 +115,9 @@ def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
     e_max = _extreme(c_e, c_t, k, theta[i_max])
     e_min = _extreme(c_e, c_t, k, theta[i_min])
     energy = np.maximum(e_max - e_min, np.max(curve, axis=-1) - np.min(curve, axis=-1))
-    inertia = energy / (cf * w * w)
+    with np.errstate(all="ignore"):  # TH2D = 0: the crank does not turn, no flywheel (NaN)
+        inertia = np.where(w != 0.0, energy / (cf * w * w), np.nan)
+    inertia = inertia[()] if np.ndim(inertia) == 0 else inertia
     # the speed with the flywheel on: 1/2 I w^2 = 1/2 I wmax^2 - (E - min E)
     w_max = w * (1.0 + cf / 2.0)
     with np.errstate(all="ignore"):

@@ -43,6 +43,40 @@ class Results(dict):
     """
 
     not_assembled: int | None = None
+    #: The unit system of the numbers (the mechanism's) and the crank angles asked for.
+    units: str = "in-lb-sec"
+    ath2: Any = None
+
+    def to_frame(self) -> Any:
+        """The results as a pandas DataFrame (the ``frames`` extra): THETA 2 [deg] as the
+        index, one column per name, each column's unit in ``frame.attrs["units"]`` (and
+        its meaning in ``frame.attrs["descriptions"]``).  One-dimensional results only
+        (one design over crank angles); a sweep's arrays are a ValueError."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Results.to_frame needs pandas: pip install -e "
+                              "\".[frames]\"") from None
+        from sielaff.quantities import describe, unit
+
+        columns = {name: np.asarray(v) for name, v in self.items()}
+        th = np.atleast_1d(np.asarray(self.ath2, dtype=float))
+        for name, v in columns.items():
+            if v.ndim != 1 or v.shape != th.shape:
+                raise ValueError(f"to_frame: {name} has shape {v.shape}; a frame holds one "
+                                 f"design over the crank angles, shape {th.shape}")
+        frame = pd.DataFrame(columns, index=pd.Index(th, name="ATH2"))
+        frame.attrs["units"] = {n: _unit_or_dash(unit, n, self.units) for n in columns}
+        frame.attrs["units"]["ATH2"] = "deg"
+        frame.attrs["descriptions"] = {n: _unit_or_dash(describe, n) for n in columns}
+        return frame
+
+
+def _unit_or_dash(fn: Any, *args: Any) -> str:
+    try:
+        return str(fn(*args))
+    except KeyError:  # a name the catalogue does not describe (an effect's own part)
+        return "-"
 
 
 def _common_shape(named: list[tuple[str, tuple[int, ...]]]) -> tuple[int, ...]:
@@ -219,6 +253,7 @@ def _analyze_numpy(req: Request) -> Results:
     with np.errstate(all="ignore"):  # NaN where the loop cannot close, inf at a toggle
         not_assembled = model.run(order, ns)
     out = Results()
+    out.units, out.ath2 = req.mechanism.units, req.ath2
     if not_assembled is not None:
         out.not_assembled = not_assembled
         if not_assembled:
@@ -297,6 +332,7 @@ def _analyze_into(mechanism: Mechanism, ath2: Any, out: dict[str, np.ndarray], b
                 np.copyto(flat[name][i:j], np.nan, where=mask)
     result = Results((name, out[name]) for name in req.wanted)
     result.not_assembled = missing
+    result.units, result.ath2 = mechanism.units, th
     if missing:
         _warn_not_assembled(missing, n, stacklevel=4)
     return result
@@ -323,6 +359,7 @@ def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Result
                              loads=sc.loads, branch=sc.branch)
     index = {name: i for i, name in enumerate(model.results)}
     result = Results()
+    result.units, result.ath2 = req.mechanism.units, th
     for name in req.wanted:
         row = table[index[name]].reshape(th.shape)
         if out is not None:

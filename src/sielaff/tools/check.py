@@ -409,7 +409,9 @@ def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) 
     from sielaff.design.report import bearing_lines, flywheel_lines
 
     scene = scene or Scene()
-    if not callable(scene.th2dd) and not np.any(scene.th2dd):
+    if m.TH2D == 0.0:
+        rep.add("  flywheel: not sized (TH2D = 0: the crank does not turn)")
+    elif not callable(scene.th2dd) and not np.any(scene.th2dd):
         for line in flywheel_lines(flywheel(m, scene=scene), m.units):
             rep.add(line)
     else:

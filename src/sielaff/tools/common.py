@@ -39,16 +39,48 @@ class Terminated(BaseException):
         self.name = signal.Signals(signum).name
 
 
+#: ``process``: main runs as the ``sielaff`` process (not called in-process by a test);
+#: ``finished``: its command has ended and said so, so a late signal changes nothing.
+SIGNAL_STATE = {"process": False, "finished": False}
+
+
 def _raise_terminated(signum, _frame) -> None:
+    from sielaff.tools import output
+
+    if SIGNAL_STATE["finished"]:  # the command is done: nothing is left to protect
+        return
+    if output.deferring():  # outputs are being renamed into place: act when they are
+        output.defer(signum)
+        return
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
 
 
-def install_signal_handlers() -> None:
+def install_signal_handlers(process: bool = False) -> None:
     """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
-    every output written whole or not at all, the temporary file removed."""
-    for name in ("SIGTERM", "SIGHUP"):
+    every output written whole or not at all, the temporary file removed.  They wait
+    while a set of outputs is being renamed into place (``sielaff.tools.output``), and
+    so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
+    keep Python's own Ctrl-C)."""
+    SIGNAL_STATE.update(process=process, finished=False)
+    for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
+            if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
+                                     signal.default_int_handler):
+                continue  # Ctrl-C ignored by the parent (nohup, a background job): keep it
             signal.signal(getattr(signal, name), _raise_terminated)
+
+
+def finish_signals() -> None:
+    """The ``sielaff`` process's command has ended and said so: from now on a signal is
+    ignored (Python restores the default handlers as it exits, and a SIGTERM then would
+    end the process silently with a status that says nothing was done)."""
+    if SIGNAL_STATE["process"]:
+        SIGNAL_STATE["finished"] = True
+        for name in ("SIGTERM", "SIGHUP", "SIGINT"):
+            if hasattr(signal, name):
+                signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
 # -- output -------------------------------------------------------------------------
@@ -192,15 +224,14 @@ def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
     import dataclasses
 
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+    from sielaff.tools.spec import PunchError, read_spec, scene_of, spec_deck
 
     if not os.path.lexists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
         units, scene = scene_of(spec, path)
-        deck = parse_deck(punch_deck(spec, path, any_units=True), path)
+        deck = spec_deck(spec, path)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene

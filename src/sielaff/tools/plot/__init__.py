@@ -510,6 +510,17 @@ def write_plots(deck: Deck, directory: str, only: str | None = None,
     return list(images)
 
 
+def _file_names(args) -> list[str]:
+    """The files ``plot`` will write for ``args`` (checked before any work)."""
+    if args.bearings:
+        return ["bearings.png"]
+    if args.linkage or args.animate:
+        return ["linkage.png"] + (["linkage.gif"] if args.animate else [])
+    if args.only == "kinematics":
+        return [f"{fig[0]}.png" for fig in KINEMATIC_FIGURES]
+    return ["fig12-driving-torque.png"] + [f"{fig[0]}.png" for fig in POLAR_FIGURES]
+
+
 def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
@@ -525,6 +536,12 @@ def cmd_plot(args) -> int:
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
+    from sielaff.tools.output import check_targets
+
+    try:  # before any work: a folder where a figure goes, say
+        check_targets([os.path.join(args.output, name) for name in _file_names(args)])
+    except OSError as exc:
+        raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
     deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate)
     if args.bearings:
         from sielaff.tools.plot.bearings import write_bearings
