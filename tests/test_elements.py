@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import warnings
 from collections import Counter
-from decimal import Decimal
 
 import numpy as np
 import pytest
@@ -176,49 +175,3 @@ def test_the_compiled_backend_refuses_elements_and_friction_in_one_line():
             analyze(EXAMPLE, [10.0], ["TORQ"], scene=sc, backend="numba")
         assert "\n" not in str(e.value)
 
-
-def test_a_spec_scene_reads_friction_springs_and_dampers():
-    import tomllib
-
-    from sielaff.tools.spec import scene_of
-
-    text = """
-[scene]
-friction = {mu = 0.1, radius = 0.25}
-[[scene.spring]]
-a = ["frame", 6.0, 90.0]
-b = ["coupler", 8.0, 0.0]
-k = 30.0
-length = 5.0
-[[scene.damper]]
-a = ["crank", 2.0, 0.0]
-b = [4, 6.0, 0.0]
-c = 0.5
-"""
-    _, sc = scene_of(tomllib.loads(text, parse_float=Decimal))
-    assert sc.friction == PinFriction(0.1, 0.25)
-    assert sc.elements == (Spring((1, 6.0, 90.0), (3, 8.0, 0.0), 30.0, 5.0),
-                           Damper((2, 2.0, 0.0), (4, 6.0, 0.0), 0.5))
-    _, sc = scene_of(tomllib.loads("[scene]\nfriction = {B = {mu = 0.2, radius = 1.0}}\n",
-                                   parse_float=Decimal))
-    assert sc.friction == {"B": PinFriction(0.2, 1.0)}
-
-
-@pytest.mark.parametrize("text, words", [
-    ('[scene]\nfriction = {mu = -1.0, radius = 1.0}\n', "[scene] friction: PinFriction.mu"),
-    ('[scene]\nfriction = {C = {mu = 0.1, radius = 1.0}}\n', "unknown key 'C'"),
-    ('[scene]\nfriction = {mu = 0.1}\n', "radius is missing"),
-    ('[[scene.spring]]\na = ["moon", 1, 0]\nb = ["crank", 1, 0]\nk = 1\nlength = 1\n',
-     "[[scene.spring]] 1 a"),
-    ('[[scene.damper]]\na = ["frame", 1, 0]\nb = ["crank", 1, 0]\n', "c is missing"),
-    ('[[scene.spring]]\na = ["frame", 1, 0]\nb = ["crank", 1, 0]\nk = 1\nlength = -1\n',
-     "Spring.length"),
-])
-def test_bad_spec_elements_and_friction_are_one_line(text, words):
-    import tomllib
-
-    from sielaff.tools.spec import PunchError, scene_of
-
-    with pytest.raises(PunchError) as e:
-        scene_of(tomllib.loads(text, parse_float=Decimal))
-    assert words in str(e.value) and "\n" not in str(e.value)

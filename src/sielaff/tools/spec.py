@@ -404,16 +404,6 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
         angle = 10.0                  # degrees CCW from the link's line
         force = [80.0, 0.0]           # frame axes
         torque = 0.0                  # CCW +
-        friction = {mu = 0.1, radius = 0.25}     # every pin; or {O2 = {mu=.., radius=..}, ..}
-        [[scene.spring]]
-        a = ["frame", 6.0, 90.0]      # [link, distance, angle]; link frame, crank, ...
-        b = ["coupler", 8.0, 0.0]
-        k = 30.0                      # lb/in or N/m
-        length = 5.0                  # free length
-        [[scene.damper]]
-        a = ["crank", 2.0, 0.0]
-        b = ["rocker", 6.0, 0.0]
-        c = 0.5                       # lb sec/in or N s/m
 
     Every value is checked by the Scene itself (finite, within its bound), and a bad
     one is one line naming the spec's key.
@@ -424,7 +414,7 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
 
     scene = _table(f"{path}: [scene]", spec.get("scene", {}))
     _unknown(f"{path}: [scene]", scene, ("units", "branch", "gravity", "crank_acceleration",
-                                         "tex", "load", "friction", "spring", "damper"))
+                                         "tex", "load"))
     units = scene.get("units", "in-lb-sec")
     if units not in STANDARD_GRAVITY:
         raise PunchError(f"{path}: [scene] units = {units!r}: {' or '.join(STANDARD_GRAVITY)}")
@@ -465,75 +455,10 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
             fields["loads"].append(Load(link, *values))
         except ValueError as exc:
             raise PunchError(f"{where}: {exc}") from None
-    if "friction" in scene:
-        fields["friction"] = _friction_of(f"{path}: [scene] friction", scene["friction"])
-    fields["elements"] = _elements_of(path, scene)
     try:
         return units, Scene(**fields)
     except ValueError as exc:
         raise PunchError(f"{path}: [scene] {exc}") from None
-
-
-def _friction_of(where: str, table):
-    """``friction = {mu=..., radius=...}`` (every pin) or ``{O2={mu=..., radius=...}, ...}``."""
-    from sielaff.engine.friction import PINS, PinFriction
-
-    table = _table(where, table)
-
-    def one(w: str, t) -> PinFriction:
-        t = _table(w, t)
-        _unknown(w, t, ("mu", "radius"))
-        for key in ("mu", "radius"):
-            if key not in t:
-                raise PunchError(f"{w}: {key} is missing")
-        try:
-            return PinFriction(_float(f"{w} mu", t["mu"]), _float(f"{w} radius", t["radius"]))
-        except ValueError as exc:
-            raise PunchError(f"{w}: {exc}") from None
-
-    if "mu" in table or "radius" in table:
-        return one(where, table)
-    _unknown(where, table, PINS)
-    return {pin: one(f"{where}.{pin}", t) for pin, t in table.items()}
-
-
-#: Link names of a spring's or damper's point (the frame is link 1).
-POINT_LINKS = {"frame": 1, **LINKS_BY_NAME, 1: 1}
-
-
-def _elements_of(path: str, scene: dict) -> list:
-    """``[[scene.spring]]`` (a, b, k, length) and ``[[scene.damper]]`` (a, b, c); a point
-    is ``[link, distance, angle]`` with link frame, crank, coupler or rocker."""
-    from sielaff.engine.elements import Damper, Spring
-
-    out = []
-    for kind, keys in (("spring", ("a", "b", "k", "length")), ("damper", ("a", "b", "c"))):
-        items = scene.get(kind, [])
-        if not isinstance(items, list):
-            raise PunchError(f"{path}: write each {kind} as [[scene.{kind}]]")
-        for n, item in enumerate(items, 1):
-            where = f"{path}: [[scene.{kind}]] {n}"
-            item = _table(where, item)
-            _unknown(where, item, keys)
-            points = []
-            for key in ("a", "b"):
-                p = item.get(key)
-                if not (isinstance(p, list) and len(p) == 3 and p[0] in POINT_LINKS
-                        and not isinstance(p[0], bool)):
-                    raise PunchError(f"{where} {key} = {p!r}: [link, distance, angle] with "
-                                     "link frame, crank, coupler or rocker")
-                points.append((POINT_LINKS[p[0]], _float(f"{where} {key} distance", p[1]),
-                               _float(f"{where} {key} angle", p[2])))
-            values = []
-            for key in keys[2:]:
-                if key not in item:
-                    raise PunchError(f"{where}: {key} is missing")
-                values.append(_float(f"{where} {key}", item[key]))
-            try:
-                out.append((Spring if kind == "spring" else Damper)(*points, *values))
-            except ValueError as exc:
-                raise PunchError(f"{where}: {exc}") from None
-    return out
 
 
 def _float(where: str, value) -> float:
