@@ -50,3 +50,20 @@ def test_to_frame_refuses_a_sweep_and_keeps_units_of_effect_parts():
     f = analyze(EXAMPLE, [0.0, 90.0], ["TORQ_GRAVITY", "ASSEMBLED"], gravity="down").to_frame()
     assert f.attrs["units"]["TORQ_GRAVITY"] == "in-lb"
     assert f["ASSEMBLED"].dtype == bool
+
+
+def test_rankings_and_tolerance_studies_are_frames_too():
+    from sielaff import EXAMPLE
+    from sielaff.design.tolerance import tolerance
+    from sielaff.synthesis import rank
+
+    cands = [EXAMPLE, EXAMPLE.replace(R4=11.0), EXAMPLE.replace(R4=13.0)]
+    r = rank(cands, by=["TORQ_PEAK"], n=90)
+    f = r.to_frame()
+    assert list(f.index) == list(r.order) and list(f["RANK"]) == [1, 2, 3]
+    np.testing.assert_array_equal(f["TORQ_PEAK"].to_numpy(), r.figures["TORQ_PEAK"][r.order])
+    assert f.attrs["units"]["TORQ_PEAK"] == "in-lb" and f.attrs["units"]["GAMMA_MIN"] == "deg"
+    t = tolerance(EXAMPLE, {"R4": 0.01}, n=50, seed=1, angles=90)
+    tf = t.to_frame()
+    assert tf.loc["TORQ_PEAK", "nominal"] == t.nominal["TORQ_PEAK"]
+    assert tf.attrs["units"]["FOB_PEAK"] == "lb"

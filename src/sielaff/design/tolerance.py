@@ -84,6 +84,21 @@ class Tolerance:
     units: str
     samples: np.ndarray | None = None
 
+    def to_frame(self) -> Any:
+        """The study as a pandas DataFrame (the ``frames`` extra): one row per figure,
+        columns nominal, mean, std, p5, p95, predicted_std; each row's unit in
+        ``frame.attrs["units"]``."""
+        import pandas as pd
+
+        from sielaff.design.sweep import column_units
+
+        cols = ("nominal", "mean", "std", "p5", "p95", "predicted_std")
+        names = list(self.nominal)
+        frame = pd.DataFrame({c: [getattr(self, c)[f] for f in names] for c in cols},
+                             index=pd.Index(names, name="FIGURE"))
+        frame.attrs["units"] = column_units(names, self.units)
+        return frame
+
 
 def _draw(seed: int, b: int, k: int, m: int, distribution: str) -> np.ndarray:
     """Block ``b``'s (k, m) standardised draws."""

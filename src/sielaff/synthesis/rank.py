@@ -71,6 +71,22 @@ class Ranking:
     def __len__(self) -> int:
         return len(self.mechanisms)
 
+    def to_frame(self) -> Any:
+        """The ranking as a pandas DataFrame (the ``frames`` extra): one row per candidate,
+        best first (``RANK`` 1, 2, ...), indexed by the candidate's position as given, one
+        column per figure; units in ``frame.attrs["units"]``."""
+        import pandas as pd
+
+        from sielaff.design.sweep import column_units
+
+        order = np.asarray(self.order, dtype=int)
+        frame = pd.DataFrame({f: np.asarray(v)[order] for f, v in self.figures.items()},
+                             index=pd.Index(order, name="CANDIDATE"))
+        frame.insert(0, "RANK", np.arange(1, len(order) + 1))
+        frame.attrs["units"] = column_units(list(self.figures), self.units)
+        frame.attrs["units"]["RANK"] = "-"
+        return frame
+
     def best(self, k: int = 1) -> list[Any]:
         """The ``k`` best candidates (as given), best first."""
         return [self.candidates[i] for i in self.order[:k]]
