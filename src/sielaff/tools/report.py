@@ -162,8 +162,8 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     shown = ["DESIGN", *grid.names, px, py]
     out.append(f"<p>{grid.size:,} designs ({' x '.join(str(n) for n in grid.shape)}: "
                f"{html.escape(', '.join(grid.names))}); the Pareto front of {px} and {py} "
-               f"(both minimised) has {len(front)} designs; the first {min(len(front), FRONT_ROWS)} "
-               f"by {px}:</p>")
+               f"(both minimised) has {len(front)} designs; the first "
+               f"{min(len(front), FRONT_ROWS)} by {px}:</p>")
     rows = ["<table><tr>" + "".join(
         f"<th>{html.escape(c)}" + (f" [{html.escape(units[c])}]" if units[c] != "-" else "")
         + "</th>" for c in shown) + "</tr>"]
