@@ -32,6 +32,8 @@ One revolution (modern engine, TEX = 0)
 Exit status: 0 usable, 2 unusable (a deck that does not read, an endless
 range, 1966 arithmetic that fails), 3 not a crank-rocker; the reason is one
 line on stderr.
+
+The module reads better whole: the report's sections follow in the order they print.
 """
 
 from __future__ import annotations
