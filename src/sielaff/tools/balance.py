@@ -66,14 +66,13 @@ def _too_large(m, path: str, args) -> None:
 
 
 def cmd_balance(args) -> int:
-    import os
 
     import numpy as np
 
     from sielaff.design.balance import balance
     from sielaff.design.report import balance_lines
     from sielaff.mechanism import FIELD_NAMES
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
     from sielaff.tools.output import atomic_output
     from sielaff.tools.spec import (
         PunchError,
@@ -85,9 +84,7 @@ def cmd_balance(args) -> int:
     )
 
     path = args.deck
-    refuse_overwriting_inputs(args.output, [path])
-    if args.output and os.path.isdir(args.output):
-        raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
+    refuse_bad_output(args.output, [path])
     deck, scene = load_scene(path, ["SHAK"], branch=getattr(args, "branch", None),
                              any_kind=True)
     m = deck.mechanism

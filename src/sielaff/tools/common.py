@@ -100,6 +100,14 @@ def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None
                                "overwrite it (choose another output file)")
 
 
+def refuse_bad_output(output: str | None, inputs: Iterable[str]) -> None:
+    """Refuse, before any work, an ``-o`` that is one of the inputs or a folder (every
+    command that writes one file per option asks this one place)."""
+    refuse_overwriting_inputs(output, inputs)
+    if output and os.path.isdir(output):
+        raise CommandError(f"sielaff: {output} is a folder: name the file to write")
+
+
 def write_stdout(text: str) -> bool:
     """Write ``text`` on stdout; False (and stdout quietly closed) if the reader went away,
     so the caller can still report its status and error line."""

@@ -253,7 +253,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
 
 def cmd_report(args: Any) -> int:
     """``sielaff report DECK|SPEC -o FILE.html`` (``-o -``: stdout)."""
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
     from sielaff.tools.output import atomic_output
 
     try:
@@ -262,9 +262,7 @@ def cmd_report(args: Any) -> int:
         raise CommandError("sielaff: report needs matplotlib: pip install -e \".[plot]\"") \
             from None
     if args.output != "-":
-        refuse_overwriting_inputs(args.output, [args.deck])
-        if os.path.isdir(args.output):
-            raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
+        refuse_bad_output(args.output, [args.deck])
     deck, scene = load_scene(args.deck, any_linkage=True)
     if args.branch:
         scene = scene.replace(branch=args.branch)

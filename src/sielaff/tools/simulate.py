@@ -14,7 +14,6 @@ are written whole or not at all.  Needs scipy (``pip install -e ".[dynamics]"``)
 
 from __future__ import annotations
 
-import os
 import sys
 
 COLUMNS = ("t", "ATH2", "TH2D", "TH2DD", "MOTOR", "TORQ")
@@ -102,15 +101,13 @@ def _plot(path: str, r, units: str) -> None:
 
 
 def cmd_simulate(args) -> int:
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
     from sielaff.tools.output import atomic_files
     from sielaff.tools.spec import PunchError, read_spec
 
     path = args.spec
     for target in (args.output, args.plot):
-        refuse_overwriting_inputs(target, [path])
-        if target and os.path.isdir(target):
-            raise CommandError(f"sielaff: {target} is a folder: name the file to write")
+        refuse_bad_output(target, [path])
     try:
         import scipy.integrate  # noqa: F401
         import scipy.optimize  # noqa: F401

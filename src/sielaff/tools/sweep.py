@@ -99,16 +99,10 @@ def _rows(block, names: list[str]):
 
 def _header(names: list[str], system: str) -> str:
     """NAME[unit] for each column (none for DESIGN, BALANCE and KIND)."""
-    from sielaff.design.figures import FIGURES
-    from sielaff.quantities import unit
+    from sielaff.design.sweep import column_units
 
-    def one(n: str) -> str:
-        if n in ("DESIGN", "BALANCE", "KIND"):
-            return n
-        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
-        return f"{n}[{unit(base, system)}]"
-
-    return ",".join(one(n) for n in names)
+    units = column_units(names, system)
+    return ",".join(n if units[n] == "-" else f"{n}[{units[n]}]" for n in names)
 
 
 def _pareto(x, y):
@@ -135,15 +129,13 @@ def cmd_sweep(args) -> int:
     import numpy as np
 
     from sielaff.design.sweep import Grid, columns, iter_blocks
-    from sielaff.tools.common import CommandError, read_spec_deck, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, read_spec_deck, refuse_bad_output
     from sielaff.tools.output import atomic_files, check_targets
     from sielaff.tools.spec import PunchError, read_spec, sweep_of
 
     path = args.spec
     for target in (args.output, args.plot):
-        refuse_overwriting_inputs(target, [path])
-        if target and os.path.isdir(target):
-            raise CommandError(f"sielaff: {target} is a folder: name the file to write")
+        refuse_bad_output(target, [path])
     check_targets([p for p in (args.output, args.plot) if p])  # before any work
     if args.plot:
         try:

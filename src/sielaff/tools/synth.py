@@ -190,14 +190,12 @@ def cmd_synth(args) -> int:
     from sielaff.engine.classify import KINDS, linkage_class
     from sielaff.mechanism import FIELD_NAMES
     from sielaff.quantities import unit
-    from sielaff.tools.common import CommandError, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, refuse_bad_output
     from sielaff.tools.output import atomic_files
     from sielaff.tools.spec import PunchError, read_spec, scene_of
 
     path = args.spec
-    refuse_overwriting_inputs(args.output, [path])
-    if args.output and os.path.isdir(args.output):
-        raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
+    refuse_bad_output(args.output, [path])
     if args.write_best and os.path.exists(args.write_best) and \
             not os.path.isdir(args.write_best):
         raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")

@@ -109,14 +109,12 @@ def cmd_tolerance(args) -> int:
 
     from sielaff.design.tolerance import tolerance
     from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.common import CommandError, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, refuse_bad_output
     from sielaff.tools.output import atomic_output
     from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
 
     path = args.spec
-    refuse_overwriting_inputs(args.output, [path])
-    if args.output and os.path.isdir(args.output):
-        raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
+    refuse_bad_output(args.output, [path])
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: tolerance reads a TOML spec with a [tolerance] table")
     if not os.path.lexists(path):
