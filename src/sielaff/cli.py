@@ -98,6 +98,22 @@ def point_spec(text: str) -> tuple[int, float, float]:
     return spec
 
 
+def load_fraction(text: str) -> float:
+    """argparse type for ``--bearing-threshold``: a fraction of a pin's peak, 0 <= x < 1."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a fraction of the pin's peak load "
+                                         "(0 or more, below 1; e.g. 0.05)")
+    return value
+
+
+BEARING_THRESHOLD_HELP = ("loads below this fraction of a pin's peak do not count as "
+                          "loading a side of it (default 0.05: docs/design.md)")
+
+
 def sheet_count(text: str) -> int:
     """argparse type for ``--max-sheets``: a whole number >= 0."""
     try:
@@ -252,6 +268,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
     p.add_argument("--crank-rocker", action="store_true",
                    help="require a crank-rocker (the 1966 program's test): exit 3 if not")
+    p.add_argument("--bearing-threshold", type=load_fraction, default=None, metavar="FRACTION",
+                   help=BEARING_THRESHOLD_HELP)
 
     p = add("plot", "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
             "diagrams of the other two bearings (the report's 15 and 17, captions lost), "
@@ -279,6 +297,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--bearings", action="store_true",
                    help="the load on each member at each pin, relative to the member, with "
                         "the arcs never loaded shaded (bearings.png)")
+    p.add_argument("--bearing-threshold", type=load_fraction, default=None, metavar="FRACTION",
+                   help="with --bearings: " + BEARING_THRESHOLD_HELP)
     p.add_argument("--animate", action="store_true",
                    help="also write linkage.gif, one cycle (matplotlib's Pillow writer)")
 

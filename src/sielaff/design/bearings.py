@@ -1,6 +1,7 @@
 """The four bearings over one revolution: the report's Fig. 14 and its oil grooves.
 
-In:  a mechanism and its scene (``analyze``'s effect keywords), ``n`` positions.
+In:  a mechanism and its scene (``analyze``'s effect keywords), ``n`` positions to start
+     from, and ``threshold``, a fraction of each pin's peak load.
 Out: per pin (O2, A, B, O4) the peak load (lb or N) and where (THETA 2, degrees), and
      per member the pin joins: the load's direction relative to that member over the cycle
      (degrees CCW from the member's line; the frame's line is +x), the arcs of that
@@ -14,14 +15,21 @@ The load on each member is the force the pin puts on it (docs/conventions.md):
     B    coupler, rocker -FB34                      FB34 (3 on 4)
     O4   rocker, frame   -FOB                       FOB (4 on 1)
 
-An arc never loaded is a range of directions, fixed in the member, that the load never
-points along: between two positions of the sampled cycle the load is taken to sweep the
-shorter way round (``n`` is large enough for that), unless it turns by more than
-:data:`JUMP`: then the load has passed through zero and swept nothing. A load reversal
-is a change of sign of the load's component along the member's line (tension to
-compression of that member at that pin), counted around the closed cycle. Positions
-where the load is zero to roundoff (below 1E-12 of the peak) point nowhere and load no
-arc.
+A load below ``threshold`` times the pin's peak load (default :data:`THRESHOLD`, 5 %;
+docs/design.md says why) does not count as loading a side: its direction is NaN.  An
+arc never loaded is then a range of directions, fixed in the member, that no load at or
+above the threshold points along.  Between two neighbouring positions the load is taken
+to sweep the shorter way round; so that this holds whatever ``n`` is, the cycle is
+refined by bisection where a direction turns by more than :data:`STEP` between
+neighbours, and where the load crosses the threshold, until the turn is below
+:data:`STEP` and the crossing is located to :data:`CROSSING` degrees of THETA 2.
+Above the threshold the direction turns at most ``|dF/dTHETA2| / (threshold * peak)``
+radians per radian, so the refinement ends and the arcs converge as ``n`` grows.  A
+turn still larger than :data:`JUMP` once the interval is :data:`SMALLEST` wide (only
+with ``threshold = 0``) is the load passing through zero, sweeping nothing.  A load
+reversal is a change of sign of the load's component along the member's line (tension
+to compression of that member at that pin) among the positions loaded above the
+threshold, counted around the closed cycle.
 """
 
 from __future__ import annotations
@@ -47,14 +55,27 @@ PINS = {
 }
 #: member -> the output giving its line's angle (None: the frame, along +x)
 LINE = {"frame": None, "crank": "ATH2", "coupler": "ATH3", "rocker": "ATH4"}
-SAMPLES = 3600
-#: Between neighbouring samples a direction that turns more than this (degrees) has
-#: passed through zero load (a reversal), sweeping none of the angles between.
+#: Positions the cycle starts from (the refinement adds more where they are needed).
+SAMPLES = 720
+#: The default threshold: loads below this fraction of the pin's peak do not count.
+THRESHOLD = 0.05
+#: Refine where a direction relative to a member turns more than this between
+#: neighbouring positions (degrees).
+STEP = 0.25
+#: A threshold crossing is located to this (degrees of THETA 2).
+CROSSING = 1e-3
+#: The refinement stops at intervals this narrow (degrees of THETA 2).
+SMALLEST = 1e-6
+#: Between neighbours still apart after refinement, a direction that turns more than this
+#: (degrees) has passed through zero load (a reversal), sweeping none of the angles between.
 JUMP = 30.0
 #: Neighbouring swept intervals closer than this (degrees) touch: roundoff of the mod.
 TOUCH = 1e-9
-#: Loads below this fraction of the pin's peak point nowhere.
+#: With ``threshold = 0``, loads below this fraction of the pin's peak (zero to roundoff)
+#: point nowhere.
 ZERO = 1e-12
+#: The peak load is found on the positions, then on a grid this fine around it (degrees).
+PEAK_STEP = 1e-3
 
 
 @dataclass(frozen=True)
@@ -72,8 +93,9 @@ class Member:
 @dataclass(frozen=True)
 class Pin:
     """A pin: ``name`` (O2, A, B, O4), the listing's force ``force``, ``peak`` load (lb
-    or N) at ``at`` (THETA 2, degrees), ``theta2`` and ``load`` (magnitude) over the cycle,
-    and its two ``members``."""
+    or N) at ``at`` (THETA 2, degrees), ``theta2`` and ``load`` (magnitude) over the cycle
+    (the refined positions), its two ``members``, and the ``threshold`` (a fraction of
+    ``peak``) below which a load did not count."""
 
     name: str
     force: str
@@ -82,6 +104,7 @@ class Pin:
     theta2: np.ndarray
     load: np.ndarray
     members: tuple[Member, ...] = field(default=())
+    threshold: float = 0.05
 
 
 def unloaded_arcs(direction: np.ndarray) -> list[tuple[float, float]]:
@@ -125,32 +148,115 @@ def _reversals(along: np.ndarray) -> int:
     return int(np.count_nonzero(s != np.roll(s, -1)))
 
 
+def _evaluate(mechanism: Mechanism, th: np.ndarray, sc: Scene) -> dict[str, np.ndarray]:
+    want = ["ATH2", "ATH3", "ATH4"] + [p[0] + s for p in PINS.values() for s in ("X", "Y")]
+    return analyze(mechanism, th, want, scene=sc)
+
+
+def _directions(r: dict[str, np.ndarray], pin: str) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The load's magnitude at ``pin`` and its direction relative to each member (deg)."""
+    name, sign, first, second = PINS[pin]
+    fx, fy = r[name + "X"], r[name + "Y"]
+    out = []
+    for member, s in ((first, sign), (second, -sign)):
+        line = 0.0 if LINE[member] is None else r[LINE[member]]
+        out.append((np.degrees(np.arctan2(s * fy, s * fx)) - line) % 360.0)
+    return np.hypot(fx, fy), out
+
+
+def _turn(d: np.ndarray) -> np.ndarray:
+    """|shorter turn| from each direction to the next, around the closed cycle (deg)."""
+    return np.abs((np.roll(d, -1) - d + 180.0) % 360.0 - 180.0)
+
+
+def _refine(mechanism: Mechanism, sc: Scene, th: np.ndarray, r: dict[str, np.ndarray],
+            floor: dict[str, float]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Bisect the intervals where a direction turns more than :data:`STEP` or a pin's
+    load crosses its ``floor`` (lb or N), until neither holds or the interval is too
+    narrow; the positions and the outputs there."""
+    while True:
+        width = np.diff(th, append=th[0] + 360.0)
+        split = np.zeros(th.size, bool)
+        for pin in PINS:
+            load, dirs = _directions(r, pin)
+            on = ~_off(load, floor[pin])
+            both = on & np.roll(on, -1)
+            crossing = on != np.roll(on, -1)
+            for d in dirs:
+                split |= both & (_turn(d) > STEP) & (width > SMALLEST)
+            split |= crossing & (width > CROSSING)
+        if not split.any():
+            return th, r
+        mid = th[split] + width[split] / 2.0
+        new = _evaluate(mechanism, mid, sc)
+        order = np.argsort(np.concatenate([th, mid]), kind="stable")
+        th = np.concatenate([th, mid])[order]
+        r = {k: np.concatenate([r[k], new[k]])[order] for k in r}
+
+
+def _off(load: np.ndarray, floor: float) -> np.ndarray:
+    """The positions whose load does not count (below ``floor``, or zero to roundoff)."""
+    return (load < floor) | (load <= 0.0)
+
+
+def _peak(mechanism: Mechanism, sc: Scene, force: str, th: np.ndarray,
+          load: np.ndarray, h: float) -> tuple[float, float]:
+    """(peak load, THETA 2 [deg]): the largest sampled load, then the largest on a
+    :data:`PEAK_STEP` grid ``h`` either side of it."""
+    t0 = float(th[int(np.argmax(load))])
+    k = int(round(h / PEAK_STEP))
+    fine = np.round(t0 + np.arange(-k, k + 1) * PEAK_STEP, 9)  # no ulps in the angle shown
+    v = analyze(mechanism, fine, [force], scene=sc)[force]
+    i = int(np.argmax(v))
+    if v[i] <= load.max():  # the sample itself (the grid need not hold it exactly)
+        return float(load.max()), t0 % 360.0 + 0.0
+    return float(v[i]), float(fine[i] % 360.0) + 0.0
+
+
 def bearings(mechanism: Mechanism, n: int = SAMPLES, *, scene: Scene | None = None,
-             **keywords: Any) -> dict[str, Pin]:
+             threshold: float = THRESHOLD, **keywords: Any) -> dict[str, Pin]:
     """The four pins of ``mechanism`` (one design, a crank that turns fully) over one
-    revolution of ``n`` positions, in ``scene`` (or the Scene of ``analyze``'s keywords)."""
+    revolution, starting from ``n`` positions and refined where needed (module doc), in
+    ``scene`` (or the Scene of ``analyze``'s keywords).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        One design (scalar fields) [deck units].
+    n : int
+        Evenly spaced positions the refinement starts from [-].
+    scene : Scene, optional
+        The loads, effects and branch [-].
+    threshold : float
+        Loads below this fraction of the pin's peak do not count as loading a side
+        [fraction of the peak, 0 <= threshold < 1].
+    """
     sc = scene_from(scene, keywords, "bearings")
     if any(np.ndim(v) for v in mechanism.as_tuple()):
         raise ValueError("bearings: one design at a time (the mechanism's fields are arrays)")
     if not bool(linkage_class(mechanism).turns_fully):
         raise ValueError("the crank cannot make a whole revolution: no bearing cycle")
+    if not 0.0 <= threshold < 1.0:
+        raise ValueError(f"bearing threshold {threshold:g}: a fraction of the pin's peak "
+                         "load, 0 or more and below 1")
     th = np.arange(n) * (360.0 / n)
-    want = ["ATH2", "ATH3", "ATH4"] + [p[0] + s for p in PINS.values() for s in ("X", "Y")]
-    r = analyze(mechanism, th, want, scene=sc)
+    r = _evaluate(mechanism, th, sc)
+    peaks = {pin: _peak(mechanism, sc, PINS[pin][0], th, _directions(r, pin)[0], 360.0 / n)
+             for pin in PINS}
+    floor = {pin: max(threshold, ZERO) * peaks[pin][0] for pin in PINS}
+    th, r = _refine(mechanism, sc, th, r, floor)
     pins = {}
     for pin, (name, sign, first, second) in PINS.items():
         fx, fy = r[name + "X"], r[name + "Y"]
-        load = np.hypot(fx, fy)
-        peak_i = int(np.argmax(load))
-        peak = float(load[peak_i])
-        zero = load <= ZERO * peak
+        load, dirs = _directions(r, pin)
+        peak, at = peaks[pin]
+        off = _off(load, floor[pin])
         members = []
-        for member, s in ((first, sign), (second, -sign)):
-            line = np.zeros(n) if LINE[member] is None else r[LINE[member]]
-            absolute = np.degrees(np.arctan2(s * fy, s * fx))
-            rel = np.where(zero, np.nan, (absolute - line) % 360.0)
-            along = np.where(zero, 0.0, s * (fx * np.cos(np.radians(line))
-                                             + fy * np.sin(np.radians(line))))
+        for (member, s), rel in zip(((first, sign), (second, -sign)), dirs):
+            line = np.zeros(th.size) if LINE[member] is None else r[LINE[member]]
+            along = np.where(off, 0.0, s * (fx * np.cos(np.radians(line))
+                                            + fy * np.sin(np.radians(line))))
+            rel = np.where(off, np.nan, rel)
             members.append(Member(member, rel, unloaded_arcs(rel), _reversals(along)))
-        pins[pin] = Pin(pin, name, peak, float(th[peak_i]), th, load, tuple(members))
+        pins[pin] = Pin(pin, name, peak, at, th, load, tuple(members), threshold)
     return pins

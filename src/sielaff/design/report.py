@@ -73,8 +73,10 @@ def _arcs(arcs: list[tuple[float, float]]) -> str:
 def bearing_lines(pins: dict[str, Pin], system: str) -> list[str]:
     """The bearings section (directions relative to each member, the report's Fig. 14)."""
     f = unit("FA32", system)
+    share = next(iter(pins.values())).threshold if pins else 0.0
     out = ["  bearings (load direction on each member, deg CCW from its line; an arc never",
-           "  loaded is an oil-groove candidate; reversals: of the load along the line):"]
+           "  loaded is an oil-groove candidate; reversals: of the load along the line;",
+           f"  loads below {100 * share:g}% of the pin's peak do not count: --bearing-threshold):"]
     for pin in pins.values():
         out.append(f"    pin {pin.name:2} ({pin.force:4}) peak {pin.peak:9.1f} {f} at "
                    f"THETA 2 = {pin.at:5.1f} deg")

@@ -12,10 +12,10 @@ Linkage
 One revolution (modern engine, TEX = 0)
     Transmission angle extremes (closed form: they lie at THETA 2 = 0 and
     180) and the closest approach to toggle; the peak bearing loads F 2 ON 1
-    (FOA), F 4 ON 1 (FOB), F 3 ON 2 (FA32) and F 3 ON 4 (FB34), the peak
-    driving torque either way, the peak shaking force and its largest X and
-    Y components, all found on a 0.1-degree grid and refined to 0.001
-    degree; and the cycle work, the integral of TORQ over one revolution
+    (FOA), F 4 ON 1 (FOB), F 3 ON 2 (FA32) and F 3 ON 4 (FB34) (design.bearings'
+    peaks, the same numbers the bearings section prints), the peak driving
+    torque either way, the peak shaking force and its largest X and Y
+    components, all found on a grid and refined to 0.001 degree; and the cycle work, the integral of TORQ over one revolution
     (trapezoid rule on the 0.1-degree grid), which is zero for TEX = 0 since
     the crank turns at constant speed.
 1966 quirks
@@ -329,8 +329,14 @@ def _clamp(x: float) -> float:
     return min(1.0, max(-1.0, x))
 
 
-def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
+def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None,
+                        pins: dict | None = None) -> None:
+    """One revolution; the peak bearing loads are ``pins``' (design.bearings), the same
+    numbers the bearings section prints."""
+    from sielaff.design import bearings
+
     scene = scene or Scene()
+    pins = pins if pins is not None else bearings(m, scene=scene)
     system = getattr(m, "units", "in-lb-sec")
     U = {"lb": unit("FA32", system), "in-lb": unit("TORQ", system)}  # noqa: N806
     effects = describe_scene(scene, system)
@@ -364,8 +370,9 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
 
     rep.add("  peak bearing loads:")
     peak_loads = []
+    by_force = {pin.force: pin for pin in pins.values()}
     for name, heading, where in BEARINGS:
-        at, value = _extreme(m, name, scene=scene)
+        at, value = by_force[name].at, by_force[name].peak
         peak_loads.append(value)
         direction = float(analyze(m, at, ["D" + name], scene=scene)["D" + name])
         rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} {U['lb']} at THETA 2 = "
@@ -403,9 +410,10 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
             f"Y component from {sy_neg:.1f} to {sy:.1f} {U['lb']}")
 
 
-def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
-    """The flywheel and the bearings (docs/design.md); a crank acceleration has no steady
-    speed to size a flywheel for."""
+def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None,
+                    pins: dict | None = None) -> None:
+    """The flywheel and the bearings ``pins`` (docs/design.md); a crank acceleration has
+    no steady speed to size a flywheel for."""
     from sielaff.design import bearings, flywheel
     from sielaff.design.report import bearing_lines, flywheel_lines
 
@@ -418,7 +426,8 @@ def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) 
     else:
         rep.add("  flywheel: not sized (the scene accelerates the crank; a flywheel is sized "
                 "at a steady speed)")
-    for line in bearing_lines(bearings(m, scene=scene), m.units):
+    pins = pins if pins is not None else bearings(m, scene=scene)
+    for line in bearing_lines(pins, m.units):
         rep.add(line)
 
 
@@ -551,9 +560,15 @@ def _kind_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) ->
 
 
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
-               scene: Scene | None = None, crank_rocker: bool = False) -> CheckReport:
+               scene: Scene | None = None, crank_rocker: bool = False,
+               bearing_threshold: float | None = None) -> CheckReport:
     """The report for ``deck`` (see the module doc).  A usable linkage of another kind
-    gets its kind's report and status 0, unless ``crank_rocker`` requires one (3)."""
+    gets its kind's report and status 0, unless ``crank_rocker`` requires one (3).
+    ``bearing_threshold``: design.bearings' threshold (its default when None)."""
+    from sielaff.design.bearings import THRESHOLD
+
+    if bearing_threshold is None:
+        bearing_threshold = THRESHOLD
     from sielaff.tools.common import mechanism_problem, results_problem
 
     rep = CheckReport()
@@ -579,8 +594,11 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
     if failure is None or (other and linkage_class(deck.mechanism).turns_fully):
         overflow = results_problem(deck, None, scene)
         if overflow is None:
-            _revolution_section(deck.mechanism, rep, scene)
-            _design_section(deck.mechanism, rep, scene)
+            from sielaff.design import bearings
+
+            pins = bearings(deck.mechanism, scene=scene, threshold=bearing_threshold)
+            _revolution_section(deck.mechanism, rep, scene, pins)
+            _design_section(deck.mechanism, rep, scene, pins)
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
@@ -643,7 +661,8 @@ def cmd_check(args) -> int:
         import dataclasses
 
         scene = dataclasses.replace(scene, branch=args.branch)
-    rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False))
+    rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False),
+                     bearing_threshold=getattr(args, "bearing_threshold", None))
     text = rep.text if getattr(args, "format", "text") == "text" else report_json(deck, rep)
     output = getattr(args, "output", None)
     if output not in (None, "-"):

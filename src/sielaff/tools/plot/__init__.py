@@ -547,6 +547,9 @@ def cmd_plot(args) -> int:
     if not drawing and (args.at is not None or args.point):
         raise CommandError(f"sielaff: {'--at' if args.at is not None else '--point'} draws "
                            "on the linkage: add --linkage")
+    if getattr(args, "bearing_threshold", None) is not None and not args.bearings:
+        raise CommandError("sielaff: --bearing-threshold is for the bearings drawing: add "
+                           "--bearings")
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
@@ -568,7 +571,8 @@ def cmd_plot(args) -> int:
         from sielaff.tools.plot.bearings import write_bearings
 
         try:
-            paths += write_bearings(deck, args.output, scene)
+            paths += write_bearings(deck, args.output, scene,
+                                    getattr(args, "bearing_threshold", None))
         except ValueError as exc:
             raise CommandError(f"{args.deck}: {exc}") from None
     if not (args.bearings or args.linkage or args.animate):
