@@ -8,8 +8,8 @@ import re
 
 import numpy as np
 import pytest
-from conftest import DECKS
 
+from conftest import DECKS
 from sielaff.cli import main
 from sielaff.design.bearings import THRESHOLD, bearings
 from sielaff.emulator.cards import read_deck
