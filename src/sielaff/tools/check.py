@@ -16,8 +16,9 @@ One revolution (modern engine, TEX = 0)
     peaks, the same numbers the bearings section prints), the peak driving
     torque either way, the peak shaking force and its largest X and Y
     components, all found on a grid and refined to 0.001 degree; and the
-    cycle work, the integral of TORQ over one revolution (trapezoid rule on the 0.1-degree grid), which is zero for TEX = 0 since
-    the crank turns at constant speed.
+    cycle work, the integral of TORQ over one revolution (trapezoid rule
+    on the 0.1-degree grid), which is zero for TEX = 0 since the crank turns
+    at constant speed.
 1966 quirks
     Every quirk of docs/quirks.md this deck triggers in ``sielaff run``.  The
     sheets a range card prints, and so the trailing sheet past THMAX, the
