@@ -146,3 +146,61 @@ def test_check_prints_each_pin_peak_once(deck):
                              text))
     assert set(first) == {"FOA", "FOB", "FA32", "FB34"}
     assert first == second
+
+
+# -- item 2 of the list: table's torque parts ------------------------------------------
+
+
+def _table(argv, capsys):
+    import csv
+    import io
+
+    status = main(["table", *argv])
+    captured = capsys.readouterr()
+    assert status == 0, captured.err
+    rows = list(csv.reader(io.StringIO(captured.out)))
+    return rows[0], np.array([[float(v) for v in r[1:]] for r in rows[1:]])
+
+
+def test_table_adds_the_torque_parts_the_scene_has(capsys):
+    """decks/scene.toml has gravity and a load, no TEX: TORQ_GRAVITY and TORQ_LOADS are
+    columns (with their unit), TORQ_TEX is not; the values are the engine's."""
+    from sielaff.tools.common import read_spec_deck
+
+    head, values = _table([str(DECKS / "scene.toml")], capsys)
+    assert head[-2:] == ["TORQ_GRAVITY[in-lb]", "TORQ_LOADS[in-lb]"]
+    deck, scene = read_spec_deck(str(DECKS / "scene.toml"))
+    want = analyze(deck.mechanism, values[:, 0], ["TORQ_GRAVITY", "TORQ_LOADS"], scene=scene)
+    np.testing.assert_array_equal(values[:, -2], want["TORQ_GRAVITY"])
+    np.testing.assert_array_equal(values[:, -1], want["TORQ_LOADS"])
+    assert np.abs(values[:, -2]).max() > 1.0 and np.abs(values[:, -1]).max() > 1.0
+    # a deck has no scene: no parts
+    head, _ = _table([str(DECKS / "example.dat")], capsys)
+    assert head[-1] == "SHAKM[in-lb]"
+
+
+def test_table_torque_parts_on_request_sum_to_torq(capsys):
+    """--torque-parts: all four parts, in the spec's unit (SI: N m); with no friction or
+    elements in the scene they add up to TORQ."""
+    head, values = _table([str(DECKS / "si.toml"), "--torque-parts"], capsys)
+    names = [h.split("[")[0] for h in head]
+    assert head[-4:] == [f"{n}[N m]" for n in
+                         ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")]
+    torq = values[:, names.index("TORQ") - 1]
+    np.testing.assert_allclose(values[:, -4:].sum(axis=1), torq,
+                               atol=1e-9 * np.abs(torq).max())
+    assert main(["table", str(DECKS / "si.toml"), "--torque-parts", "--only",
+                 "kinematics"]) == 2
+    assert "--torque-parts" in capsys.readouterr().err
+
+
+def test_table_tex_column_with_a_tex_scene():
+    import io
+
+    from sielaff.tools.table import write_table
+
+    deck = read_deck(DECKS / "example.dat")
+    out = io.StringIO()
+    write_table(deck, out, scene=Scene(tex=150.0))
+    head = out.getvalue().splitlines()[0].split(",")
+    assert head[-1] == "TORQ_TEX[in-lb]" and "TORQ_GRAVITY[in-lb]" not in head

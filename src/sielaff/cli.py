@@ -241,6 +241,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--header", choices=("units", "names"), default="units",
                    help="CSV header: NAME[unit] (default) or the bare names; JSON always "
                         "has 'units' and 'descriptions' beside 'columns'")
+    p.add_argument("--torque-parts", action="store_true",
+                   help="add TORQ_INERTIA, TORQ_GRAVITY, TORQ_LOADS and TORQ_TEX, the parts "
+                        "of TORQ (without it: the parts the spec's scene has)")
     p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
 
     p = add("diff", "compare a listing with a golden printout, field by field "

@@ -31,6 +31,12 @@ Columns
     rad/sec and rad/sec^2, lengths in inches, forces in lb, torques in in-lb.
     TEX is 0, as in the 1966 program.
 
+    After them come the parts of TORQ the spec's scene has (docs/effects.md):
+    ``TORQ_GRAVITY`` with gravity, ``TORQ_LOADS`` with external loads,
+    ``TORQ_TEX`` with a torque TEX on link 4; ``--torque-parts`` adds all of
+    TORQ_INERTIA, TORQ_GRAVITY, TORQ_LOADS and TORQ_TEX whatever the scene (a
+    part the scene lacks is 0), in the torque unit of the spec's system.
+
 Formats
     ``csv`` (default): a header row of the column names with their units,
     ``NAME[unit]`` (``TORQ[in-lb]``, ``ATH3[deg]``; ``CARD`` has none), then one
@@ -84,9 +90,26 @@ CHUNK = 10_000
 FORMATS = ("csv", "json")
 
 
-def columns(kinematics_only: bool = False) -> tuple[str, ...]:
-    """The table's column names, in order."""
-    return ("CARD",) + (engine.KINEMATIC_OUTPUTS if kinematics_only else engine.RESULTS)
+#: The parts of TORQ a table can add (docs/effects.md), in this order.
+TORQUE_PARTS = ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")
+
+
+def _has_tex(scene: Scene) -> bool:
+    return callable(scene.tex) or bool(np.any(np.asarray(scene.tex) != 0.0))
+
+
+def columns(kinematics_only: bool = False, scene: Scene | None = None,
+            torque_parts: bool = False) -> tuple[str, ...]:
+    """The table's column names, in order: CARD, the engine's results, then the parts of
+    TORQ the ``scene`` has (TORQ_GRAVITY with gravity, TORQ_LOADS with loads, TORQ_TEX
+    with a TEX), or all of :data:`TORQUE_PARTS` with ``torque_parts``."""
+    if kinematics_only:
+        return ("CARD",) + engine.KINEMATIC_OUTPUTS
+    sc = scene or Scene()
+    has = {"TORQ_INERTIA": False, "TORQ_GRAVITY": sc.gravity is not None,
+           "TORQ_LOADS": bool(sc.loads), "TORQ_TEX": _has_tex(sc)}
+    return ("CARD",) + engine.RESULTS + tuple(n for n in TORQUE_PARTS
+                                              if torque_parts or has[n])
 
 
 # --------------------------------------------------------------------------
@@ -170,7 +193,7 @@ def header(names: tuple[str, ...], units: bool = True, system: str = "in-lb-sec"
 
 def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
                 warn=None, units: bool = True, scene: Scene | None = None,
-                assembled_only: bool = False) -> int:
+                assembled_only: bool = False, torque_parts: bool = False) -> int:
     """Write the table of ``deck`` on ``out``; returns the number of rows.
 
     With ``assembled_only`` (a linkage whose crank cannot turn fully) a position where
@@ -187,7 +210,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     scene = scene or Scene()
     json = fmt == "json"
     system = getattr(deck.mechanism, "units", "in-lb-sec")
-    names = columns(kinematics_only)
+    names = columns(kinematics_only, scene, torque_parts)
     wanted = names[1:]
     if json:
         import json as json_module
@@ -280,6 +303,12 @@ def cmd_table(args: argparse.Namespace) -> int:
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
+    parts = getattr(args, "torque_parts", False)
+    if parts and args.only == "kinematics":
+        from sielaff.tools.common import CommandError
+
+        raise CommandError("sielaff: --torque-parts needs the force analysis that --only "
+                           "kinematics leaves out")
     deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:],
                              branch=getattr(args, "branch", None), any_kind=True)
     from sielaff.mechanism import crank_rocker_failure
@@ -290,6 +319,7 @@ def cmd_table(args: argparse.Namespace) -> int:
     with atomic_output(args.output) as out:
         write_table(deck, out, args.format, args.only == "kinematics", warn,
                     units=getattr(args, "header", "units") == "units", scene=scene,
-                    assembled_only=crank_rocker_failure(deck.mechanism) is not None)
+                    assembled_only=crank_rocker_failure(deck.mechanism) is not None,
+                    torque_parts=parts)
     return 0
 
