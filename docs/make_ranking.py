@@ -97,7 +97,8 @@ def tolerance_lines() -> list[str]:
     t = design.tolerance(EXAMPLE, DEV, n=2000, seed=1, scene=Scene(tex=-200.0))
     units = {"TORQ_PEAK": "in-lb", "TORQ_RMS": "in-lb", "FLYWHEEL_I": "in-lb-sec^2",
              "FOA_PEAK": "lb", "FA32_PEAK": "lb", "FB34_PEAK": "lb", "FOB_PEAK": "lb",
-             "SHAK_PEAK": "lb", "SHAKM_PEAK": "in-lb", "GAMMA_MIN": "deg"}
+             "SHAK_PEAK": "lb", "SHAKM_PEAK": "in-lb", "GAMMA_MIN": "deg",
+             "GAMMA_MAX": "deg"}
     out = [
         "### Example: the report's linkage, machined to 0.005 in",
         "",

@@ -204,3 +204,90 @@ def test_table_tex_column_with_a_tex_scene():
     write_table(deck, out, scene=Scene(tex=150.0))
     head = out.getvalue().splitlines()[0].split(",")
     assert head[-1] == "TORQ_TEX[in-lb]" and "TORQ_GRAVITY[in-lb]" not in head
+
+
+# -- items 3 and 7 of the list: the sweep's Pareto senses, GAMMA_MAX, no NaN rows ------
+
+
+def _dominated(x, y, i):
+    """Brute force: some point at least as good in both (minimised) and better in one."""
+    return bool(np.any((x <= x[i]) & (y <= y[i]) & ((x < x[i]) | (y < y[i]))))
+
+
+@pytest.mark.parametrize("senses", [("min", "min"), ("max", "min"), ("min", "max"),
+                                    ("max", "max")])
+def test_pareto_front_in_either_sense_against_brute_force(senses):
+    from sielaff.tools.sweep import _pareto
+
+    rng = np.random.default_rng(7)
+    x, y = np.round(rng.random(300), 2), np.round(rng.random(300), 2)  # ties too
+    x[5] = np.nan
+    front = _pareto(x, y, senses).tolist()
+    kx, ky = (np.where(np.isfinite(v), -v if s == "max" else v, np.inf)
+              for v, s in zip((x, y), senses))
+    want = {i for i in range(300) if np.isfinite(x[i]) and not _dominated(kx, ky, i)}
+    # points equal in both figures are dominated by neither: the front keeps one of them
+    assert set(front) <= want and {(x[i], y[i]) for i in front} == {(x[i], y[i]) for i in want}
+    assert len(front) >= 3
+    assert kx[front[0]] == kx[list(want)].min()  # sorted from the best in x
+
+
+def test_pareto_pair_syntax():
+    from sielaff.design.sweep import pareto_pair
+
+    assert pareto_pair("GAMMA_MIN:max,TORQ_PEAK") == (("GAMMA_MIN", "max"), ("TORQ_PEAK", "min"))
+    assert pareto_pair(["GAMMA_MIN", "GAMMA_MAX:min"]) == (("GAMMA_MIN", "max"),
+                                                          ("GAMMA_MAX", "min"))
+    assert pareto_pair(["SHAK_PEAK:max", "TORQ_RMS"])[0] == ("SHAK_PEAK", "max")
+    for bad in ("GAMMA_MIN", "KIND,TORQ_PEAK", "TORQ_PEAK:up,SHAK_PEAK", "X,Y,Z"):
+        with pytest.raises(ValueError):
+            pareto_pair(bad)
+
+
+def test_gamma_max_is_the_largest_transmission_angle():
+    from sielaff.design.figures import figures
+
+    m = EXAMPLE.replace(R4=np.array([10.0, 12.0, 14.0]))
+    f = figures(m, n=360)
+    th = np.arange(360.0)
+    for i, r4 in enumerate((10.0, 12.0, 14.0)):
+        g = analyze(EXAMPLE.replace(R4=r4), th, ["GAMMA"])["GAMMA"]
+        assert f["GAMMA_MAX"][i] == pytest.approx(g.max(), rel=1e-12)
+    assert f["GAMMA_MAX"][1] == pytest.approx(67.98, abs=0.01)  # check's maximum, example
+
+
+SWEEP_SPEC = """
+[sweep]
+angles = 36
+pareto = ["GAMMA_MIN:max", "TORQ_PEAK"]
+[sweep.vary]
+R3 = [16.0, 2.0, 17.0]
+R1 = [12.0, 13.0]
+"""
+
+
+def test_sweep_rows_only_for_a_full_cycle_and_pareto_max(tmp_path, capsys):
+    """R3 = 2 cannot turn the crank (a double rocker): those designs have no row, stderr
+    counts them; the plot's front maximises GAMMA_MIN as the spec asks."""
+    pytest.importorskip("matplotlib")
+    from sielaff.design.figures import figures
+    from sielaff.tools.sweep import _pareto
+
+    spec = tmp_path / "s.toml"
+    spec.write_text((DECKS / "example.toml").read_text() + SWEEP_SPEC)
+    csv, png = tmp_path / "s.csv", tmp_path / "p.png"
+    assert main(["sweep", str(spec), "-o", str(csv), "--plot", str(png)]) == 0
+    err = capsys.readouterr().err
+    lines = csv.read_text().splitlines()
+    assert "nan" not in csv.read_text().lower()
+    designs = [int(line.split(",")[0]) for line in lines[1:]]
+    r3 = np.repeat([16.0, 2.0, 17.0], 2)
+    r1 = np.tile([12.0, 13.0], 3)
+    f = figures(EXAMPLE.replace(R3=r3, R1=r1), n=36)
+    full = np.flatnonzero(np.isfinite(f["TORQ_PEAK"]))
+    assert designs == full.tolist() and len(full) == 4
+    assert "2 of 6 designs left out (no row)" in err
+    assert png.stat().st_size > 0
+    # maximised GAMMA_MIN: the front starts at the largest GAMMA_MIN
+    front = _pareto(f["GAMMA_MIN"], f["TORQ_PEAK"], ("max", "min"))
+    assert f["GAMMA_MIN"][front[0]] == np.nanmax(f["GAMMA_MIN"])

@@ -93,4 +93,9 @@ def test_plot_balance_sweep_on_every_kind(tmp_path, kind, branch):
     r = sielaff("sweep", spec, "--branch", branch, "-o", tmp_path / "s.csv")
     assert r.returncode == 0, r.stderr
     rows = (tmp_path / "s.csv").read_text().splitlines()
-    assert len(rows) == 4 and all(row.endswith(kind) for row in rows[1:])
+    assert "nan" not in "".join(rows[1:]).lower()  # never a NaN row (issue 22)
+    if kind == "double-crank":
+        assert len(rows) == 4 and all(row.endswith(kind) for row in rows[1:])
+    else:  # no whole revolution: no row, and stderr counts them
+        assert len(rows) == 1
+        assert "3 of 3 designs left out (no row)" in r.stderr and f"3 {kind}" in r.stderr

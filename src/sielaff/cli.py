@@ -326,6 +326,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the table here (atomically) instead of stdout")
     p.add_argument("--plot", metavar="FILE.png",
                    help="also draw the Pareto plot of the [sweep]'s two pareto figures")
+    p.add_argument("--pareto", metavar="FIG[:max],FIG[:max]",
+                   help="the Pareto front's two figures instead of the [sweep]'s, each "
+                        "FIGURE, FIGURE:min or FIGURE:max (e.g. GAMMA_MIN:max,TORQ_PEAK; a "
+                        "bare GAMMA_MIN is maximised, every other figure minimised)")
     p.add_argument("--workers", type=worker_count, default=None, metavar="N",
                    help="local processes/threads (default: all cores, through dask when it "
                         "is installed; 1: in this process)")

@@ -9,6 +9,8 @@ Out: ``{figure: array (D,)}``, in the mechanism's units (:data:`FIGURES`):
     FOA_PEAK FA32_PEAK FB34_PEAK FOB_PEAK       largest load on each pin
     SHAK_PEAK   largest shaking force           SHAKM_PEAK largest |shaking moment|
     GAMMA_MIN   smallest transmission angle, min(GAMMA, 180 - GAMMA) over the cycle
+    GAMMA_MAX   largest transmission angle GAMMA over the cycle (the usual guideline
+                keeps GAMMA between 40 and 140 deg: GAMMA_MIN >= 40, GAMMA_MAX <= 140)
     KIND        the linkage's kind, as an index into classify.KINDS
 
 A design whose crank cannot turn fully gets NaN figures (and its KIND): a sweep over a
@@ -28,7 +30,7 @@ from sielaff.engine.classify import KINDS, linkage_class
 from sielaff.engine.scene import Scene, scene_from
 from sielaff.mechanism import Mechanism
 
-__all__ = ["FIGURES", "figures"]
+__all__ = ["FIGURES", "MAXIMISED", "figures"]
 
 #: figure -> (the output whose unit it has, what it is)
 FIGURES = {
@@ -42,8 +44,13 @@ FIGURES = {
     "SHAK_PEAK": ("SHAK", "largest shaking force"),
     "SHAKM_PEAK": ("SHAKM", "largest |shaking moment|"),
     "GAMMA_MIN": ("GAMMA", "smallest transmission angle"),
+    "GAMMA_MAX": ("GAMMA", "largest transmission angle"),
     "KIND": (None, "kind of four-bar (index into KINDS)"),
 }
+
+#: Figures where more is better (maximised by a ranking and, unless told otherwise, by a
+#: sweep's Pareto front); every other figure is minimised.
+MAXIMISED = ("GAMMA_MIN",)
 
 _NEED = ["TORQ", "FOA", "FA32", "FB34", "FOB", "SHAK", "SHAKM", "GAMMA"]
 
@@ -87,4 +94,5 @@ def figures(mechanism: Mechanism, n: int = 360, cf: float = 0.05, *,
     out["SHAKM_PEAK"][ok] = np.max(np.abs(r["SHAKM"]), axis=1)
     g = r["GAMMA"]
     out["GAMMA_MIN"][ok] = np.min(np.minimum(g, 180.0 - g), axis=1)
+    out["GAMMA_MAX"][ok] = np.max(g, axis=1)
     return out

@@ -33,8 +33,8 @@ from sielaff.design.figures import FIGURES, figures
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 
-__all__ = ["BLOCK", "NO_WORKER_SECONDS", "SWEEPABLE", "ClusterLost", "Grid", "block",
-           "column_units", "iter_blocks", "sweep_frame"]
+__all__ = ["BLOCK", "NO_WORKER_SECONDS", "SENSES", "SWEEPABLE", "ClusterLost", "Grid",
+           "block", "column_units", "iter_blocks", "pareto_pair", "sweep_frame"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
@@ -91,6 +91,36 @@ def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: Scene
     out.update(values)
     out.update(figures(m, n=n, cf=cf, scene=scene))
     return out
+
+
+#: The senses a Pareto figure can take.
+SENSES = ("min", "max")
+
+
+def pareto_pair(items: Any) -> tuple[tuple[str, str], tuple[str, str]]:
+    """Two Pareto figures, each ``"FIGURE"`` or ``"FIGURE:min"`` / ``"FIGURE:max"``, as
+    ((figure, sense), (figure, sense)).  A bare figure takes its usual sense: maximised
+    if in :data:`~sielaff.design.figures.MAXIMISED` (GAMMA_MIN), else minimised.  A
+    ValueError says what is wrong in one line."""
+    from sielaff.design.figures import MAXIMISED
+
+    names = " ".join(f for f in FIGURES if f != "KIND")
+    if isinstance(items, str):
+        items = [p.strip() for p in items.split(",")]
+    if not (isinstance(items, list | tuple) and len(items) == 2
+            and all(isinstance(p, str) for p in items)):
+        raise ValueError(f"pareto = {items!r}: two figures, each FIGURE or FIGURE:min or "
+                         f"FIGURE:max, FIGURE one of {names}")
+    out = []
+    for item in items:
+        name, _, sense = item.partition(":")
+        if name not in FIGURES or name == "KIND":
+            raise ValueError(f"pareto: {name!r} is not a figure (one of {names})")
+        sense = sense or ("max" if name in MAXIMISED else "min")
+        if sense not in SENSES:
+            raise ValueError(f"pareto: {item!r}: the sense is min or max, not {sense!r}")
+        out.append((name, sense))
+    return out[0], out[1]
 
 
 def columns(grid: Grid) -> list[str]:

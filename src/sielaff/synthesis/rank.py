@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.design.figures import FIGURES, figures
+from sielaff.design.figures import FIGURES, MAXIMISED, figures
 from sielaff.design.sweep import BLOCK
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
@@ -40,8 +40,6 @@ __all__ = ["MAXIMISED", "RANKABLE", "Ranking", "pareto_front", "rank"]
 
 #: The figures a ranking can use (KIND is a label, not a figure of merit).
 RANKABLE = tuple(f for f in FIGURES if f != "KIND")
-#: Figures where more is better.
-MAXIMISED = ("GAMMA_MIN",)
 #: A candidate set larger than this goes to dask (when installed) with backend="auto".
 SMALL = 1024
 

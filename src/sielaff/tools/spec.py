@@ -487,7 +487,8 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
         [sweep]
         angles = 360                  # crank angles per revolution (default 360)
         cf = 0.05                     # coefficient of speed fluctuation (flywheel)
-        pareto = ["TORQ_PEAK", "SHAK_PEAK"]   # the two figures plotted (both minimised)
+        pareto = ["TORQ_PEAK", "SHAK_PEAK"]   # the two figures plotted, each FIGURE or
+                                      # FIGURE:min|max (bare: GAMMA_MIN max, others min)
         [sweep.vary]                  # listing names (R4, W3, TH2D, ...), TEX, BALANCE,
                                       # CW_R2 and CW_R4 (counterweight radii)
         R4 = { from = 10.0, to = 14.0, n = 41 }   # evenly spaced, both ends
@@ -496,8 +497,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     """
     import numpy as np
 
-    from sielaff.design.figures import FIGURES
-    from sielaff.design.sweep import SWEEPABLE
+    from sielaff.design.sweep import SWEEPABLE, pareto_pair
 
     table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
     if not table:
@@ -511,11 +511,11 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     cf = float(_number(f"{path}: [sweep] cf", table.get("cf", Decimal("0.05"))))
     if not 0.0 < cf < 2.0:
         raise PunchError(f"{path}: [sweep] cf = {cf:g}: between 0 and 2 (0.05 is usual)")
-    pareto = table.get("pareto", ["TORQ_PEAK", "SHAK_PEAK"])
-    if not (isinstance(pareto, list) and len(pareto) == 2
-            and all(p in FIGURES and p != "KIND" for p in pareto)):
-        raise PunchError(f"{path}: [sweep] pareto = {pareto!r}: two of "
-                         f"{' '.join(f for f in FIGURES if f != 'KIND')}")
+    try:  # each "FIGURE" or "FIGURE:min|max" (design.sweep.pareto_pair)
+        pair = pareto_pair(table.get("pareto", ["TORQ_PEAK", "SHAK_PEAK"]))
+    except ValueError as exc:
+        raise PunchError(f"{path}: [sweep] {exc}") from None
+    pareto, senses = [p[0] for p in pair], tuple(p[1] for p in pair)
     vary = _table(f"{path}: [sweep.vary]", table.get("vary", {}))
     if not vary:
         raise PunchError(f"{path}: [sweep.vary] is empty: name at least one field to vary")
@@ -561,7 +561,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
             values = np.linspace(lo, hi, item["n"])
         _check_axis(where, name, values)
         axes[name] = values
-    return {"axes": axes, "angles": angles, "cf": cf, "pareto": pareto}
+    return {"axes": axes, "angles": angles, "cf": cf, "pareto": pareto, "senses": senses}
 
 
 def _check_axis(where: str, name: str, values) -> None:

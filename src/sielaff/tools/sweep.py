@@ -105,10 +105,12 @@ def _header(names: list[str], system: str) -> str:
     return ",".join(n if units[n] == "-" else f"{n}[{units[n]}]" for n in names)
 
 
-def _pareto(x, y):
-    """Indices of the designs no other design beats in both x and y (both minimised)."""
+def _pareto(x, y, senses=("min", "min")):
+    """Indices of the designs no other design beats in both x and y, each minimised or
+    maximised as ``senses`` says, sorted from the best in x."""
     import numpy as np
 
+    x, y = ((-v if sense == "max" else v) for v, sense in zip((x, y), senses))
     # roundoff (a balanced design's shaking force, ~1E-13) is zero: ties never depend
     # on a CPU's last bits
     finite = np.isfinite(x) & np.isfinite(y)
@@ -137,6 +139,9 @@ def cmd_sweep(args) -> int:
     for target in (args.output, args.plot):
         refuse_bad_output(target, [path])
     check_targets([p for p in (args.output, args.plot) if p])  # before any work
+    if getattr(args, "pareto", None) and not args.plot:
+        raise CommandError("sielaff: --pareto chooses the Pareto plot's figures: add --plot "
+                           "FILE.png")
     if args.plot:
         try:
             import matplotlib  # noqa: F401
@@ -176,8 +181,18 @@ def cmd_sweep(args) -> int:
         client = _connect(args.scheduler)
     names = columns(grid)
     header = _header(names, m.units)
-    px, py = (names.index(p) for p in sweep["pareto"])
+    pair = list(zip(sweep["pareto"], sweep["senses"]))
+    if getattr(args, "pareto", None):
+        from sielaff.design.sweep import pareto_pair
+
+        try:
+            pair = list(pareto_pair(args.pareto))
+        except ValueError as exc:
+            raise CommandError(f"sielaff: --pareto {args.pareto}: "
+                               f"{str(exc).removeprefix('pareto: ')}") from None
+    px, py = (names.index(p) for p, _ in pair)
     xs, ys = [], []
+    dropped: dict[int, int] = {}  # KIND index -> designs left out
     paths = [p for p in (args.output, args.plot) if p]
     try:
         with atomic_files(paths) as temps:
@@ -187,24 +202,51 @@ def cmd_sweep(args) -> int:
                 blocks = iter_blocks(grid, sweep["angles"], sweep["cf"], scene, backend,
                                      client, workers=workers)
                 for block in _on_cluster(blocks, args.scheduler, client):
-                    out.write("\n".join(_rows(block, names)) + "\n")
+                    kept = _full_cycle(block, names)
+                    for k in block[~kept, names.index("KIND")]:
+                        dropped[int(k)] = dropped.get(int(k), 0) + 1
+                    block = block[kept]
+                    if block.size:
+                        out.write("\n".join(_rows(block, names)) + "\n")
                     xs.append(block[:, px])
                     ys.append(block[:, py])
             finally:
                 if args.output:
                     out.close()
             if args.plot:
-                _plot(temps[-1], np.concatenate(xs), np.concatenate(ys), sweep["pareto"],
-                      m.units, grid.size)
+                _plot(temps[-1], np.concatenate(xs), np.concatenate(ys),
+                      tuple(p for p, _ in pair), m.units, grid.size,
+                      tuple(s for _, s in pair))
     finally:
         if client is not None:
             _close(client)
-    ok = np.isfinite(np.concatenate(xs))
-    print(f"sielaff sweep: {grid.size} designs ({int(ok.sum())} with a full cycle), "
+    left_out = sum(dropped.values())
+    print(f"sielaff sweep: {grid.size} designs ({grid.size - left_out} with a full cycle), "
           f"{sweep['angles']} angles each, "
           f"{'in this process' if backend == 'process' else 'through dask'}"
           + (f" -> {args.output}" if args.output else ""), file=sys.stderr)
+    if left_out:
+        from sielaff.engine.classify import KINDS
+
+        kinds = ", ".join(f"{n} {KINDS[k]}" for k, n in sorted(dropped.items()))
+        print(f"sielaff sweep: {left_out} of {grid.size} designs left out (no row), the "
+              "figures being those of a whole revolution: their crank cannot make one, or "
+              f"the linkage folds flat on the way at a change point ({kinds})",
+              file=sys.stderr)
     return 0
+
+
+def _full_cycle(block, names: list[str]):
+    """The rows of designs whose figures are a whole revolution's: every figure finite
+    but FLYWHEEL_I, which is NaN at TH2D = 0 (no speed to size a flywheel for).  A
+    design whose crank cannot turn fully, or that folds flat at a change point, has NaN
+    figures (design.figures)."""
+    import numpy as np
+
+    from sielaff.design.figures import FIGURES
+
+    cols = [names.index(f) for f in FIGURES if f not in ("KIND", "FLYWHEEL_I")]
+    return np.isfinite(block[:, cols]).all(axis=1)
 
 
 def _connect(address: str):
@@ -269,8 +311,9 @@ def _close(client) -> None:
     logging.disable(logging.NOTSET)
 
 
-def _plot(path: str, x, y, pair, system: str, size: int) -> None:
+def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min")) -> None:
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -278,13 +321,16 @@ def _plot(path: str, x, y, pair, system: str, size: int) -> None:
     from sielaff.design.figures import FIGURES
     from sielaff.quantities import unit
 
-    front = _pareto(x, y)
+    front = _pareto(x, y, senses)
     fig, ax = plt.subplots(figsize=(7, 5), dpi=120)
-    ok = (x == x) & (y == y)
+    ok = np.isfinite(x) & np.isfinite(y)
     ax.scatter(x[ok], y[ok], s=4, color="0.7", label=f"designs ({int(ok.sum())} of {size})")
     ax.plot(x[front], y[front], "o-", ms=3, color="C3", label=f"Pareto front ({len(front)})")
-    ax.set_xlabel(f"{pair[0]} ({FIGURES[pair[0]][1]}) [{unit(FIGURES[pair[0]][0], system)}]")
-    ax.set_ylabel(f"{pair[1]} ({FIGURES[pair[1]][1]}) [{unit(FIGURES[pair[1]][0], system)}]")
+    word = {"min": "minimised", "max": "maximised"}
+    ax.set_xlabel(f"{pair[0]} ({FIGURES[pair[0]][1]}, {word[senses[0]]}) "
+                  f"[{unit(FIGURES[pair[0]][0], system)}]")
+    ax.set_ylabel(f"{pair[1]} ({FIGURES[pair[1]][1]}, {word[senses[1]]}) "
+                  f"[{unit(FIGURES[pair[1]][0], system)}]")
     ax.legend(loc="upper right")
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
