@@ -291,3 +291,58 @@ def test_sweep_rows_only_for_a_full_cycle_and_pareto_max(tmp_path, capsys):
     # maximised GAMMA_MIN: the front starts at the largest GAMMA_MIN
     front = _pareto(f["GAMMA_MIN"], f["TORQ_PEAK"], ("max", "min"))
     assert f["GAMMA_MIN"][front[0]] == np.nanmax(f["GAMMA_MIN"])
+
+
+# -- item 6 of the list: plot --linkage --at where the linkage does not assemble --------
+
+
+def test_plot_linkage_at_an_angle_that_does_not_assemble(tmp_path, capsys):
+    """decks/double-rocker.dat reaches 60-112.89 and 247.11-300 deg: --at 180 is one line
+    naming those arcs, exit 2, nothing written (before: exit 0, the crank alone)."""
+    out = tmp_path / "figs"
+    assert main(["plot", str(DECKS / "double-rocker.dat"), "--linkage", "--at", "180",
+                 "-o", str(out)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "does not assemble at this crank angle" in err[0]
+    assert "60.00 to 112.89 deg and from 247.11 to 300.00 deg: nothing drawn" in err[0]
+    assert not (out / "linkage.png").exists()
+
+
+def test_plot_linkage_draws_only_the_angles_that_assemble():
+    """--at 180,90: 180 is left out of the drawing (its warning), 90 drawn alone; the
+    path of G3 is one curve per arc (a NaN between), and no text overlaps another or
+    leaves the figure."""
+    pytest.importorskip("matplotlib")
+    from sielaff.tools.plot.linkage import _draw_linkage, linkage_data
+    from sielaff.tools.plot.render import _pyplot, overlapping, text_boxes
+
+    deck = read_deck(DECKS / "double-rocker.dat")
+    with pytest.warns(UserWarning, match="--at 180: the linkage cannot be put together"):
+        d = linkage_data(deck, (180.0, 90.0))
+    assert d.at.tolist() == [90.0] and "THETA 2 = 90 deg" in d.title
+    assert all(np.isfinite(x).all() for x, _ in d.joints.values())
+    x, _ = d.curves["G3"]
+    assert np.count_nonzero(np.isnan(x)) == 2  # after each of the two arcs
+    plt = _pyplot()
+    fig = _draw_linkage(plt, d)
+    try:
+        boxes = text_boxes(fig)
+        w, h = fig.canvas.get_width_height()
+        assert not overlapping(boxes)
+        assert all(0 <= b[0] and b[2] <= w and 0 <= b[1] and b[3] <= h for _, b in boxes)
+    finally:
+        plt.close(fig)
+
+
+def test_plot_linkage_default_angle_assembles(tmp_path, capsys):
+    """No --at on a double rocker that does not assemble at 40 deg: the middle of its
+    first arc is drawn, no warning."""
+    pytest.importorskip("matplotlib")
+    from sielaff.tools.plot.linkage import default_angle
+
+    deck = read_deck(DECKS / "double-rocker.dat")
+    assert default_angle(deck) == pytest.approx((60.0 + 112.89) / 2, abs=0.01)
+    assert default_angle(read_deck(DECKS / "example.dat")) == 40.0
+    assert main(["plot", str(DECKS / "double-rocker.dat"), "--linkage", "-o",
+                 str(tmp_path)]) == 0
+    assert capsys.readouterr().err == ""

@@ -290,7 +290,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="draw the linkage itself to scale (linkage.png): joints, centres of "
                         "mass, the path of G3, toggle limits (the report's Figure 9)")
     p.add_argument("--at", type=angle_list, default=None, metavar="DEG[,DEG...]",
-                   help="with --linkage: the crank angles drawn (default 40)")
+                   help="with --linkage: the crank angles drawn (default 40, or the middle "
+                        "of the first arc where the linkage assembles if not at 40); one where the "
+                        "linkage does not assemble is left out with a warning, and if none "
+                        "does, nothing is drawn (exit 2)")
     p.add_argument("--point", type=point_spec, action="append", default=[],
                    metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "
                    "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")

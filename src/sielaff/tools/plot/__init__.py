@@ -565,7 +565,7 @@ def cmd_plot(args) -> int:
     if args.linkage or args.animate:  # with --bearings too: both drawings
         from sielaff.tools.plot.linkage import write_linkage
 
-        paths += write_linkage(deck, args.output, args.at or (40.0,), args.point, scene.branch,
+        paths += write_linkage(deck, args.output, args.at, args.point, scene.branch,
                                args.animate)
     if args.bearings:
         from sielaff.tools.plot.bearings import write_bearings

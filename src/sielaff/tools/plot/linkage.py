@@ -50,17 +50,28 @@ def linkage_data(deck: Deck, at=(40.0,), points=(), branch: str = "open") -> Lin
                   "B": xy(4, m.R4, 0.0, at), "G2": xy(2, m.RG2, m.ADEL2, at),
                   "G3": xy(3, m.RG3, m.ADEL3, at), "G4": xy(4, m.RG4, m.ADEL4, at)}
     apart = at[~np.isfinite(joints["B"][0])]
+    c = linkage_class(m)
     if apart.size:
         warnings.warn(f"{deck.path}: --at {','.join(f'{a:g}' for a in apart)}: the linkage "
                       "cannot be put together at "
                       f"{'this crank angle' if apart.size == 1 else 'these crank angles'} "
                       "(link 3 does not reach link 4 there); the drawing leaves "
                       f"{'it' if apart.size == 1 else 'them'} out", stacklevel=2)
-    sweep = reachable(m, 721)
-    curves = {"G3": xy(3, m.RG3, m.ADEL3, sweep)}
-    for k, (link, r, angle) in enumerate(points, 1):
-        curves[f"P{k} (link {link}, {r:g}, {angle:g} deg)"] = xy(link, r, angle, sweep)
-    c = linkage_class(m)
+    if apart.size and apart.size < at.size:  # draw the angles that assemble
+        keep = np.isfinite(joints["B"][0])
+        at = at[keep]
+        joints = {k: (x[keep], y[keep]) for k, (x, y) in joints.items()}
+    if c.turns_fully:
+        sweep = reachable(m, 721)
+    else:  # each arc between toggles its own curve: a NaN between them breaks the line
+        sweep = np.concatenate([np.append(np.mod(a + np.linspace(0.0, (b - a) % 360.0, 241),
+                                                 360.0), np.nan) for a, b in c.arcs] or
+                               [np.array([])])
+    with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        curves = {"G3": xy(3, m.RG3, m.ADEL3, sweep)}
+        for k, (link, r, angle) in enumerate(points, 1):
+            curves[f"P{k} (link {link}, {r:g}, {angle:g} deg)"] = xy(link, r, angle, sweep)
     toggles = [float(t) for t in np.ravel(c.toggles) if np.isfinite(t)]
     kind = c.kind
     title = (f"The linkage ({kind}, {branch} branch) at THETA 2 = "
@@ -109,10 +120,60 @@ def _linkage_axes(ax, d: LinkageData, frame: int | None) -> None:
     ax.grid(True, color="0.9")
 
 
-def write_linkage(deck: Deck, directory: str, at=(40.0,), points=(), branch: str = "open",
+#: The crank angle drawn when none is asked for (degrees), if the linkage assembles there.
+DEFAULT_AT = 40.0
+
+
+def default_angle(deck: Deck, branch: str = "open") -> float:
+    """:data:`DEFAULT_AT`, or the middle of the first arc where the linkage assembles
+    (degrees) when it does not assemble at DEFAULT_AT."""
+    from sielaff.engine import linkage_class
+
+    c = linkage_class(deck.mechanism)
+    if c.turns_fully or not c.arcs or not _apart(deck, np.array([DEFAULT_AT]), branch).any():
+        return DEFAULT_AT
+    a, b = c.arcs[0]
+    return float((a + ((b - a) % 360.0) / 2.0) % 360.0)
+
+
+def _apart(deck: Deck, at: np.ndarray, branch: str) -> np.ndarray:
+    """Which of the angles ``at`` [deg] the linkage does not assemble at."""
+    from sielaff.engine import AssemblyWarning, point_motion
+
+    m = deck.mechanism
+    with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        return ~np.isfinite(point_motion(m, at, 4, m.R4, 0.0, branch=branch)["X"])
+
+
+def _refuse_apart(deck: Deck, at: np.ndarray, branch: str) -> None:
+    """One line, exit 2, when the linkage assembles at none of the angles ``at``: where
+    it does assemble, and that nothing is drawn."""
+    from sielaff.engine import linkage_class
+    from sielaff.tools.common import CommandError
+
+    if not _apart(deck, at, branch).all():
+        return
+    c = linkage_class(deck.mechanism)
+    spans = " and from ".join(f"{a:.2f} to {b:.2f} deg" + (" (through 0)" if b < a else "")
+                              for a, b in c.arcs)
+    where = f"only from THETA 2 = {spans}" if c.arcs else "at no crank angle"
+    angles = "this crank angle" if at.size == 1 else "these crank angles"
+    raise CommandError(f"{deck.path}: --at {','.join(f'{a:g}' for a in at)}: the linkage does "
+                       f"not assemble at {angles} (link 3 does not reach link 4); it "
+                       f"assembles {where}: nothing drawn")
+
+
+def write_linkage(deck: Deck, directory: str, at=None, points=(), branch: str = "open",
                   animate: bool = False) -> list[str]:
-    """``linkage.png`` (and ``linkage.gif``, one cycle, with ``animate``), all or none."""
+    """``linkage.png`` (and ``linkage.gif``, one cycle, with ``animate``), all or none.
+    ``at``: the crank angles drawn [deg] (None: :func:`default_angle`); if the linkage
+    assembles at none of them, a CommandError (exit 2) says where it does."""
     plt = _pyplot()
+    if animate:
+        _no_cycle(deck)
+    at = np.atleast_1d(np.asarray(default_angle(deck, branch) if at is None else at, float))
+    _refuse_apart(deck, at, branch)
     d = linkage_data(deck, at, points, branch)
     images = {}
     fig = _draw_linkage(plt, d)
@@ -128,6 +189,14 @@ def write_linkage(deck: Deck, directory: str, at=(40.0,), points=(), branch: str
     return list(images)
 
 
+def _no_cycle(deck: Deck) -> None:
+    from sielaff.engine import reachable
+
+    if not np.size(reachable(deck.mechanism, 2)):
+        raise ValueError(f"{deck.path}: --animate: the linkage cannot be put together at any "
+                         "crank angle (link 3 never reaches link 4): there is no cycle to show")
+
+
 def _animation(plt, deck: Deck, points, branch: str, frames: int = 36) -> bytes:
     """One cycle (the angles the linkage reaches) as a GIF: matplotlib's Pillow writer
     redraws one figure's axes for each frame, at fixed limits."""
@@ -135,10 +204,8 @@ def _animation(plt, deck: Deck, points, branch: str, frames: int = 36) -> bytes:
 
     from sielaff.engine import reachable
 
+    _no_cycle(deck)
     cycle = reachable(deck.mechanism, frames)
-    if not np.size(cycle):
-        raise ValueError(f"{deck.path}: --animate: the linkage cannot be put together at any "
-                         "crank angle (link 3 never reaches link 4): there is no cycle to show")
     d = linkage_data(deck, cycle, points, branch)
     fig, ax = plt.subplots(figsize=(7, 5), dpi=80, layout="constrained")
     xs = np.concatenate([np.ravel(x) for x, _ in (*d.joints.values(), *d.curves.values())])
