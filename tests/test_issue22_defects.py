@@ -346,3 +346,46 @@ def test_plot_linkage_default_angle_assembles(tmp_path, capsys):
     assert main(["plot", str(DECKS / "double-rocker.dat"), "--linkage", "-o",
                  str(tmp_path)]) == 0
     assert capsys.readouterr().err == ""
+
+
+# -- item 8 of the list: a change-point linkage, the same rules in every command --------
+
+
+@pytest.fixture
+def change_point(tmp_path):
+    """The example with R3 = 14, R4 = 6: s + l = 4 + 14 = p + q = 6 + 12, folding flat at
+    THETA 2 = 0 (|A O4| = R1 - R2 = R3 - R4)."""
+    lines = (DECKS / "example.dat").read_text().splitlines()
+    lines[2] = "    12.0     4.0    14.0     6.0" + lines[2][32:]
+    path = tmp_path / "change-point.dat"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_change_point_through_every_command(change_point, tmp_path, capsys):
+    """check exits 0 with the kind's report (3 only with --crank-rocker, and run 3); table
+    gives rows only where the rates are defined (before: exit 2 blaming card 6 while check
+    exited 3)."""
+    from sielaff.engine.classify import linkage_class
+
+    deck = read_deck(change_point)
+    assert linkage_class(deck.mechanism).kind == "change-point"
+    assert main(["check", str(change_point)]) == 0
+    out = capsys.readouterr().out
+    assert "change point: the four links lie in line at THETA 2 = 0 deg" in out
+    assert "Verdict: usable as a change-point" in out and " nan" not in out
+    assert main(["check", str(change_point), "--crank-rocker"]) == 3
+    capsys.readouterr()
+    assert main(["run", str(change_point), "-o", str(tmp_path / "l.asa")]) == 3
+    capsys.readouterr()
+    assert main(["table", str(change_point)]) == 0
+    captured = capsys.readouterr()
+    assert "card 6" not in captured.err and "folds flat at THETA 2 = 0 deg" in captured.err
+    assert "1 of 36 positions left out" in captured.err
+    rows = captured.out.splitlines()
+    assert len(rows) == 36 and "nan" not in captured.out  # 10..350: 360 (= 0) left out
+    assert main(["balance", str(change_point)]) == 0
+    assert "nan" not in capsys.readouterr().out.lower()
+    # the bearing cycle needs a whole revolution with loads: refused like a rocker's
+    assert main(["plot", str(change_point), "--bearings", "-o", str(tmp_path / "b")]) == 2
+    assert "a change point: the linkage folds flat" in capsys.readouterr().err

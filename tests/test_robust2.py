@@ -321,13 +321,18 @@ def test_10_analyze_refuses_impossible_mechanisms_naming_the_field(fields, messa
 
 def test_10_a_change_point_is_not_a_usable_crank_rocker(tmp_path):
     deck = write_deck(tmp_path, cards((3, "     8.0     3.0     4.0     7.0")))  # 8+3 = 4+7
-    status, text, err = cli("check", deck)
+    status, text, err = cli("check", deck, "--crank-rocker")
     assert status == 3 and "change point" in one_error(err) and "usable\n" not in text
     assert "nan" not in text
-    # the modern table takes any four-bar; at the change point's toggle the rates are
-    # infinite, past what a listing can hold: refused (exit 2), one line
-    status, _, err = cli("table", deck)  # a note naming the kind, then the refusal
-    assert status == 2 and "change-point" in err and "Traceback" not in err
+    # without --crank-rocker, any four-bar (issue 22): the change point's report, exit 0
+    status, text, err = cli("check", deck)
+    assert status == 0 and "folds" not in err and "nan" not in text
+    assert "lie in line at THETA 2 = 180 deg" in text
+    # the modern table takes any four-bar; at the change point (folded flat, THETA 2 =
+    # 180) the rates are not defined: that position is left out, the rest are rows
+    status, out, err = cli("table", deck)  # a note naming the kind, the count left out
+    assert status == 0 and "change-point" in err and "Traceback" not in err
+    assert "nan" not in out and "1 of 36 positions left out" in err
     status, out, err = cli("run", deck)  # the 1966 test passes by roundoff: faithful, flagged
     if status == 0:
         assert "change point" in err and "passed by roundoff" in err

@@ -234,8 +234,12 @@ def bearings(mechanism: Mechanism, n: int = SAMPLES, *, scene: Scene | None = No
     sc = scene_from(scene, keywords, "bearings")
     if any(np.ndim(v) for v in mechanism.as_tuple()):
         raise ValueError("bearings: one design at a time (the mechanism's fields are arrays)")
-    if not bool(linkage_class(mechanism).turns_fully):
+    c = linkage_class(mechanism)
+    if not bool(c.turns_fully):
         raise ValueError("the crank cannot make a whole revolution: no bearing cycle")
+    if c.kind == "change-point":
+        raise ValueError("a change point: the linkage folds flat on the way round, where the "
+                         "loads are not defined: no bearing cycle")
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"bearing threshold {threshold:g}: a fraction of the pin's peak "
                          "load, 0 or more and below 1")

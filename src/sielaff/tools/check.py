@@ -531,15 +531,36 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
 
 def _kind_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
     """A linkage whose crank cannot turn fully: its toggles, the arcs it swings over, the
-    limit positions there, and the transmission angle over those arcs."""
+    limit positions there, and the transmission angle over those arcs; a change point:
+    where it folds, and the transmission angle."""
     import warnings
 
     from sielaff.engine import analyze
     from sielaff.engine.analysis import AssemblyWarning
     from sielaff.engine.positions import reachable
+    from sielaff.tools.common import change_points
 
     scene = scene or Scene()
     c = linkage_class(m)
+    if c.kind == "change-point":
+        folds = change_points(m)
+        at = " and ".join(f"{a:g}" for a in folds) or "one position"
+        rep.add(f"Around the revolution (modern engine, the {scene.branch} branch)")
+        rep.add(f"  change point: the four links lie in line at THETA 2 = {at} deg, where")
+        rep.add("    the linkage can fold from one branch to the other: its rates are not "
+                "defined there")
+        rep.add("    (0/0), and near it the branch the engine follows jumps, so rates and loads "
+                "grow")
+        rep.add("    without bound: no peaks are reported; sielaff table and plot leave the "
+                "position out")
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore", AssemblyWarning)
+            g = analyze(m, reachable(m, 3601), ["GAMMA"], scene=scene)["GAMMA"]
+        g = g[np.isfinite(g)]
+        if g.size:
+            rep.add(f"  transmission angle GAMMA: {g.min():.2f} to {g.max():.2f} deg (0 or 180 "
+                    "where it folds)")
+        return
     rep.add(f"Over the arcs where it assembles (modern engine, the {scene.branch} branch)")
     toggles = [float(t) for t in np.ravel(c.toggles) if np.isfinite(t)]
     rep.add("  toggles (coupler and rocker in line) at THETA 2 = "
@@ -589,10 +610,14 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
     rep.add()
     overflow = None
     other = failure is not None and not crank_rocker and linkage_class(deck.mechanism).arcs
-    if other and not linkage_class(deck.mechanism).turns_fully:
+    # a change point turns fully but folds flat on the way: worked like the kinds that do
+    # not turn (no revolution's peaks: the rates jump and grow without bound there)
+    whole = bool(linkage_class(deck.mechanism).turns_fully) and (
+        linkage_class(deck.mechanism).kind != "change-point")
+    if other and not whole:
         _kind_section(deck.mechanism, rep, scene)
         rep.add()
-    if failure is None or (other and linkage_class(deck.mechanism).turns_fully):
+    if failure is None or (other and whole):
         overflow = results_problem(deck, None, scene)
         if overflow is None:
             from sielaff.design import bearings

@@ -277,14 +277,16 @@ def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str |
         print(f"sielaff: {note}", file=sys.stderr)
         from sielaff.engine.classify import linkage_class
 
-        if not linkage_class(deck.mechanism).turns_fully:
+        c = linkage_class(deck.mechanism)
+        if not c.turns_fully or c.kind == "change-point":
             import warnings
 
             from sielaff.engine.analysis import AssemblyWarning
 
             # the note above says where it assembles: no warning per sampled position
             warnings.filterwarnings("ignore", category=AssemblyWarning)
-            return deck, scene  # the rates are infinite at the toggles: nothing to bound
+            return deck, scene  # the rates are infinite at the toggles or the change
+            # point: nothing to bound; the positions where they are not finite are left out
         problem = None
     problem = (problem or range_problem(deck)
                or results_problem(deck, outputs, scene))
@@ -301,12 +303,32 @@ def kind_note(deck: Deck) -> str | None:
     c = linkage_class(deck.mechanism)
     if not c.arcs:
         return None
+    if c.kind == "change-point":
+        at = " and ".join(f"{a:g}" for a in change_points(deck.mechanism)) or "one position"
+        return (f"{deck.path}: a change-point, not a crank-rocker: link 2 turns fully but the "
+                f"linkage folds flat at THETA 2 = {at} deg, where the rates are not defined; "
+                "positions there are left out (sielaff run refuses it, as the 1966 program "
+                "does)")
     if c.turns_fully:
         return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 turns fully "
                 "(sielaff run refuses it, as the 1966 program does)")
     arcs = ", ".join(f"{a:.2f} to {b:.2f}" for a, b in c.arcs)
     return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 swings between toggles "
             f"over THETA 2 = {arcs} deg; positions outside are left out")
+
+
+def change_points(m) -> list[float]:
+    """The crank angles [deg] (0, 180 or both) where a change-point linkage folds flat:
+    A on the frame's line with |A O4| = R3 + R4 or |R3 - R4|, to a few times the
+    tolerance linkage_class decides the kind to (mechanism.BOUNDARY of the lengths)."""
+    from sielaff.mechanism import BOUNDARY
+
+    out = []
+    scale = 4.0 * BOUNDARY * (m.R1 + m.R2 + m.R3 + m.R4)
+    for at, d in ((0.0, abs(m.R1 - m.R2)), (180.0, m.R1 + m.R2)):
+        if min(abs(d - (m.R3 + m.R4)), abs(d - abs(m.R3 - m.R4))) <= scale:
+            out.append(at)
+    return out
 
 
 def not_a_crank_rocker(deck: Deck) -> str | None:
