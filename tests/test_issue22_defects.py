@@ -389,3 +389,52 @@ def test_change_point_through_every_command(change_point, tmp_path, capsys):
     # the bearing cycle needs a whole revolution with loads: refused like a rocker's
     assert main(["plot", str(change_point), "--bearings", "-o", str(tmp_path / "b")]) == 2
     assert "a change point: the linkage folds flat" in capsys.readouterr().err
+
+
+# -- item 5 of the list: bench's figure, labels apart ----------------------------------
+
+
+def _bench_result() -> dict:
+    """A study result shaped as sielaff.tools.bench.study.study returns it, with the
+    numbers of docs/accuracy.png where float32's label fell on ibm1410:8's."""
+    def row(model, t, median, top, same, fields, either):
+        return {"model": model, "us_per_position": t, "exact_median": median,
+                "exact_max": top, "same_median": same, "fields": fields,
+                "boundary": list(range(either))}
+
+    rows = [row("float64", 17.0, 5e-9, 1.8e-7, 1e-16, 69, 8),
+            row("float32", 75.0, 8e-8, 1e-5, 8e-8, 66, 16),
+            row("ibm1410:8", 600.0, 9e-8, 1.5e-5, 9e-8, 82, 0),
+            row("ibm1410:12", 900.0, 5e-9, 5e-9, 1e-11, 76, 0),
+            row("ibm1410:16", 900.0, 5e-9, 1.8e-7, 1e-15, 73, 0),
+            row("engine", 2.2, 0.0, 2e-15, None, 66, 16)]
+    tols = [10.0 ** -k for k in range(2, 16)]
+    deltas = [90.0, 60.0, 45.0, 30.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05, 0.02,
+              0.01]
+    return {"models": {"rows": rows, "algorithm_median": 5e-9},
+            "arccos": [{"tol": t, "worst": t, "mean_terms": 3 + k, "max_terms": 4 + 3 * k}
+                       for k, t in enumerate(tols)],
+            "steps": [{"delta": d, "engine_rel": 1e-16, "peak_rel": 1e-3 * d / 90,
+                       "port_rel": 1e-8 if d >= 0.1 else None, "engine_s": 1e-4 / d,
+                       "port_s": 1e-3 / d if d >= 0.1 else None} for d in deltas]}
+
+
+def test_bench_figure_labels_do_not_overlap():
+    """Every text of the figure, measured by the renderer, clear of every other (before:
+    float32's label was drawn over ibm1410:8's)."""
+    pytest.importorskip("matplotlib")
+    from sielaff.tools.bench.report import figure
+    from sielaff.tools.plot.render import _pyplot, overlapping, text_boxes
+
+    fig = figure(_bench_result())
+    try:
+        boxes = text_boxes(fig)
+        labels = [t for t, _ in boxes if "/82 fields" in t]
+        assert len(labels) == 6
+        w, h = fig.canvas.get_width_height()
+        for text, b in boxes:
+            if "/82 fields" in text:  # inside the figure
+                assert 0 <= b[0] and b[2] <= w and 0 <= b[1] and b[3] <= h
+        assert not [p for p in overlapping(boxes) if any("/82 fields" in t for t in p)]
+    finally:
+        _pyplot().close(fig)

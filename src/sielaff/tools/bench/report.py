@@ -7,29 +7,99 @@ import os
 from sielaff.emulator.printer import NEARBY_ULPS
 from sielaff.tools.bench.study import ENGINE, coarsest_step
 
+#: Where a model's label may go, tried in turn: (dx, dy) offset points from its maximum
+#: and the horizontal alignment.
+LABEL_SPOTS = ((6, 4, "left"), (6, -26, "left"), (-6, 4, "right"), (-6, -26, "right"),
+               (6, 16, "left"), (-6, 16, "right"), (6, -40, "left"), (-6, -40, "right"),
+               (6, 30, "left"), (-6, 30, "right"), (6, -54, "left"), (-6, -54, "right"))
+
 
 def plot(res: dict, path: str) -> None:
+    """The study's figure, written to ``path`` (PNG)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15, 5.6), constrained_layout=True)
+    fig = figure(res)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _place(ax, labels, markers) -> None:
+    """Each (text, xy, color) of ``labels`` as an annotation at the first of
+    :data:`LABEL_SPOTS` where its box, as the renderer draws it, stays inside the axes
+    (else inside the figure) and meets no text already drawn (placed labels, legends,
+    titles, tick labels: :func:`sielaff.tools.plot.render.text_boxes`) and none of
+    ``markers`` (data points, 5 px either way)."""
+    from matplotlib.transforms import Bbox
+
+    from sielaff.tools.plot.render import text_boxes
+
+    fig = ax.figure
+    taken = [Bbox.from_extents(*b) for _, b in text_boxes(fig)]  # draws: the layout settles
+    renderer = fig.canvas.get_renderer()
+    frames = (ax.get_window_extent(renderer), fig.bbox)  # inside the axes if it can be
+    for other in fig.axes:
+        if other.get_legend() is not None:
+            taken.append(other.get_legend().get_window_extent(renderer))
+    dots = [ax.transData.transform(xy) for xy in markers]
+
+    def free(bb, frame) -> bool:
+        if not (frame.x0 <= bb.x0 and bb.x1 <= frame.x1 and frame.y0 <= bb.y0
+                and bb.y1 <= frame.y1):
+            return False
+        if any(bb.overlaps(t) for t in taken):
+            return False
+        return not any(bb.x0 - 5 < x < bb.x1 + 5 and bb.y0 - 5 < y < bb.y1 + 5
+                       for x, y in dots)
+
+    for text, xy, color in labels:
+        chosen = None
+        for frame, (dx, dy, ha) in ((f, spot) for f in frames for spot in LABEL_SPOTS):
+            ann = ax.annotate(text, xy, textcoords="offset points", xytext=(dx, dy), ha=ha,
+                              fontsize=8, color=color)
+            ann.set_in_layout(False)  # placed after the layout: it must not move the axes
+            bb = ann.get_window_extent(renderer)
+            if free(bb, frame):
+                chosen = bb
+                break
+            ann.remove()
+        if chosen is None:  # nowhere free: the first spot, as before
+            dx, dy, ha = LABEL_SPOTS[0]
+            ann = ax.annotate(text, xy, textcoords="offset points", xytext=(dx, dy), ha=ha,
+                              fontsize=8, color=color)
+            ann.set_in_layout(False)
+            chosen = ann.get_window_extent(renderer)
+        taken.append(chosen)
+
+
+def figure(res: dict):
+    """The study's figure: (a) the number models, (b) ARCCOS, (c) the step size."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15, 5.6), constrained_layout=True,
+                                     dpi=110)
     # (a) models: cost against accuracy
     colors = {"float64": "C0", "float32": "C1", "ibm1410:8": "C3", "ibm1410:12": "C4",
               "ibm1410:16": "C5", ENGINE: "C2"}
+    labels, markers = [], []
     for row in res["models"]["rows"]:
         c = colors[row["model"]]
         t = row["us_per_position"]
-        a1.scatter([t], [max(row["exact_median"], 1e-17)], color=c, marker="o", s=50)
-        a1.scatter([t], [row["exact_max"]], color=c, marker="^", s=50)
+        points = [(t, max(row["exact_median"], 1e-17)), (t, row["exact_max"])]
+        a1.scatter(*points[0], color=c, marker="o", s=50)
+        a1.scatter(*points[1], color=c, marker="^", s=50)
         if row["same_median"] is not None:
-            a1.scatter([t], [max(row["same_median"], 1e-17)], edgecolors=c, marker="s",
-                       facecolors="none", s=50)
-        dy = {"ibm1410:12": -26, "ibm1410:16": 14}.get(row["model"], 4)
+            points.append((t, max(row["same_median"], 1e-17)))
+            a1.scatter(*points[-1], edgecolors=c, marker="s", facecolors="none", s=50)
+        markers += points
         either = f" (+{len(row['boundary'])} either way)" if row["boundary"] else ""
-        a1.annotate(f"{row['model']}\n{row['fields']}/82 fields{either}", (t, row["exact_max"]),
-                    textcoords="offset points", xytext=(6, dy), fontsize=8, color=c)
+        labels.append((f"{row['model']}\n{row['fields']}/82 fields{either}",
+                       (t, row["exact_max"]), c))
     a1.axhline(res["models"]["algorithm_median"], color="grey", ls=":", lw=1)
     a1.text(1.0, res["models"]["algorithm_median"] * 1.4, "1966 algorithm error (median)",
             fontsize=7, color="grey")
@@ -93,8 +163,8 @@ def plot(res: dict, path: str) -> None:
     a3.set_ylim(1e-18, 10)
     a3.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14),
               ncol=2)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _place(a1, labels, markers)  # last: around everything else drawn in (a)
+    return fig
 
 
 # -- the report --------------------------------------------------------------------------------
