@@ -438,3 +438,22 @@ def test_bench_figure_labels_do_not_overlap():
         assert not [p for p in overlapping(boxes) if any("/82 fields" in t for t in p)]
     finally:
         _pyplot().close(fig)
+
+
+# -- item 9 of the list: check's past-THMAX quirk as run words it -----------------------
+
+
+def test_check_past_thmax_by_roundoff_shows_the_digits_that_differ(tmp_path):
+    """check said "THETA 2 = 100.1 > THMAX = 100.1" where run already showed the digits."""
+    from sielaff.tools.check import check_deck
+
+    lines = (DECKS / "example.dat").read_text().splitlines()[:6]
+    path = tmp_path / "q.dat"
+    path.write_text("\n".join(lines) + "\n     0.0     0.1   100.1\n")
+    text = " ".join(check_deck(read_deck(path), sheet_limit=0).text.split())
+    assert "THETA 2 = 100.10000000000001 > THMAX = 100.1" in text
+    assert "by roundoff" in text
+    path.write_text("\n".join(lines) + "\n    10.0    10.0   360.0\n")
+    text = " ".join(check_deck(read_deck(path), sheet_limit=0).text.split())
+    assert "THETA 2 = 370.0 > THMAX = 360.0 (the 1966 loop prints a sheet before testing " \
+           "ATH2.GT.THMAX)" in text

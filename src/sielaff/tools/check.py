@@ -473,9 +473,13 @@ def _quirk_section(deck: Deck, sheets: list[RangeSheets], rep: CheckReport,
                           f"{rs.count} sheets (THETA 2 = {_plain(rs.first)} to "
                           f"{_plain(rs.last)}), not the one the report promises")
         else:
+            last, top, why = _plain(rs.last), _plain(rs.thmax), ""
+            if last == top:  # past by roundoff of TH + I*DELTA: the digits that differ
+                last, top = repr(float(rs.last)), repr(float(rs.thmax))
+                why = ", by roundoff: THZERO - DELTA + I*DELTA in binary floating point"
             quirks.append(f"{where}: trailing sheet past THMAX: the last sheet is THETA 2 = "
-                          f"{_plain(rs.last)} > THMAX = {_plain(rs.thmax)} (the 1966 loop "
-                          "prints a sheet before testing ATH2.GT.THMAX)")
+                          f"{last} > THMAX = {top} (the 1966 loop prints a sheet before "
+                          f"testing ATH2.GT.THMAX{why})")
         for span, text in ((rs.past_360, "past one revolution, where the 1966 program takes "
                             "the Case II branch (TH2 >= PI)"),
                            (rs.below_0, "below zero, where the 1966 program takes the Case I "
