@@ -156,13 +156,15 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     cols = columns(grid)
     data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
     px, py = sw["pareto"]
+    senses = sw.get("senses", ("min", "min"))  # each figure minimised or maximised
     x, y = data[:, cols.index(px)], data[:, cols.index(py)]
-    front = _pareto(x, y)
+    front = _pareto(x, y, senses)
     units = column_units(cols, deck.mechanism.units)
     shown = ["DESIGN", *grid.names, px, py]
     out.append(f"<p>{grid.size:,} designs ({' x '.join(str(n) for n in grid.shape)}: "
                f"{html.escape(', '.join(grid.names))}); the Pareto front of {px} and {py} "
-               f"(both minimised) has {len(front)} designs; the first "
+               f"({' and '.join(s + 'imised' for s in senses)}) has {len(front)} designs; "
+               "the first "
                f"{min(len(front), FRONT_ROWS)} by {px}:</p>")
     rows = ["<table><tr>" + "".join(
         f"<th>{html.escape(c)}" + (f" [{html.escape(units[c])}]" if units[c] != "-" else "")
@@ -172,7 +174,7 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
                     + "</tr>")
     rows.append("</table>")
     buf = io.BytesIO()
-    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size)
+    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses)
     return out + rows + [_figure(buf.getvalue(), "image/png",
                                  f"The sweep's designs and the Pareto front of {px} and {py}")]
 
