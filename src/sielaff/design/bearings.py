@@ -159,7 +159,8 @@ def _directions(r: dict[str, np.ndarray], pin: str) -> tuple[np.ndarray, list[np
     fx, fy = r[name + "X"], r[name + "Y"]
     out = []
     for member, s in ((first, sign), (second, -sign)):
-        line = 0.0 if LINE[member] is None else r[LINE[member]]
+        key = LINE[member]
+        line = 0.0 if key is None else r[key]
         out.append((np.degrees(np.arctan2(s * fy, s * fx)) - line) % 360.0)
     return np.hypot(fx, fy), out
 
@@ -257,7 +258,8 @@ def bearings(mechanism: Mechanism, n: int = SAMPLES, *, scene: Scene | None = No
         off = _off(load, floor[pin])
         members = []
         for (member, s), rel in zip(((first, sign), (second, -sign)), dirs):
-            line = np.zeros(th.size) if LINE[member] is None else r[LINE[member]]
+            key = LINE[member]
+            line = np.zeros(th.size) if key is None else r[key]
             along = np.where(off, 0.0, s * (fx * np.cos(np.radians(line))
                                             + fy * np.sin(np.radians(line))))
             rel = np.where(off, np.nan, rel)
