@@ -30,15 +30,12 @@ def _place(ax, labels, markers) -> None:
     """Each (text, xy, color) of ``labels`` as an annotation at the first of
     :data:`LABEL_SPOTS` where its box, as the renderer draws it, stays inside the axes
     (else inside the figure) and meets no text already drawn (placed labels, legends,
-    titles, tick labels: :func:`sielaff.tools.plot.render.text_boxes`) and none of
-    ``markers`` (data points, 5 px either way)."""
-    from matplotlib.transforms import Bbox
-
-    from sielaff.tools.plot.render import text_boxes
-
+    titles, tick labels) and none of ``markers`` (data points, 5 px either way).  (The
+    plot command's tests measure text the same way: tools/plot/render.text_boxes.)"""
     fig = ax.figure
-    taken = [Bbox.from_extents(*b) for _, b in text_boxes(fig)]  # draws: the layout settles
+    fig.canvas.draw()  # the layout settled: boxes in display pixels from here on
     renderer = fig.canvas.get_renderer()
+    taken = _drawn_texts(fig, renderer)
     frames = (ax.get_window_extent(renderer), fig.bbox)  # inside the axes if it can be
     for other in fig.axes:
         if other.get_legend() is not None:
@@ -72,6 +69,28 @@ def _place(ax, labels, markers) -> None:
             ann.set_in_layout(False)
             chosen = ann.get_window_extent(renderer)
         taken.append(chosen)
+
+
+def _drawn_texts(fig, renderer) -> list:
+    """The boxes (display pixels) of every non-empty visible text ``fig`` draws; a tick
+    label counts only if its tick is inside the axis's view (the others are not drawn)."""
+    from matplotlib.text import Text
+
+    hidden = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            lo, hi = sorted(axis.get_view_interval())
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if not lo <= tick.get_loc() <= hi:
+                    hidden.update((id(tick.label1), id(tick.label2)))
+    out = []
+    for t in fig.findobj(Text):
+        if id(t) in hidden or not t.get_visible() or not str(t.get_text()).strip():
+            continue
+        bb = Text.get_window_extent(t, renderer)
+        if bb.width > 0 and bb.height > 0:
+            out.append(bb)
+    return out
 
 
 def figure(res: dict):
