@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -28,6 +29,7 @@ from sielaff.emulator.cards import DeckError
 from sielaff.tools.common import (
     EXIT_DECK,
     EXIT_INTERRUPTED,
+    SIGNAL_STATE,
     CommandError,
     Terminated,
     finish_signals,
@@ -444,6 +446,18 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"sielaff: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_DECK
+    except Exception:
+        # A signal that arrived while a C extension was loading (numpy importing datetime)
+        # comes back as that extension's ImportError: it is still the signal.
+        signum = SIGNAL_STATE["raised"]
+        if debug or signum is None:
+            raise
+        if signum == signal.SIGINT:
+            print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        print(f"sielaff: terminated by {signal.Signals(signum).name}; {changed_note()}",
+              file=sys.stderr)
+        return 128 + signum
 
 
 #: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS

@@ -41,7 +41,9 @@ class Terminated(BaseException):
 
 #: ``process``: main runs as the ``sielaff`` process (not called in-process by a test);
 #: ``finished``: its command has ended and said so, so a late signal changes nothing.
-SIGNAL_STATE = {"process": False, "finished": False}
+#: ``raised``: the signal last turned into an exception (a C extension being imported
+#: when it arrives can swallow that exception into an ImportError of its own).
+SIGNAL_STATE: dict = {"process": False, "finished": False, "raised": None}
 
 
 def _raise_terminated(signum, _frame) -> None:
@@ -52,6 +54,7 @@ def _raise_terminated(signum, _frame) -> None:
     if output.deferring():  # outputs are being renamed into place: act when they are
         output.defer(signum)
         return
+    SIGNAL_STATE["raised"] = signum
     if signum == signal.SIGINT:
         raise KeyboardInterrupt
     raise Terminated(signum)
@@ -63,7 +66,7 @@ def install_signal_handlers(process: bool = False) -> None:
     while a set of outputs is being renamed into place (``sielaff.tools.output``), and
     so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
     keep Python's own Ctrl-C)."""
-    SIGNAL_STATE.update(process=process, finished=False)
+    SIGNAL_STATE.update(process=process, finished=False, raised=None)
     for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
             if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
