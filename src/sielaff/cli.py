@@ -374,7 +374,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
     if sys.stdout is None:  # started with >&-
-        if getattr(args, "output", None) and args.command in ("run", "table", "punch"):
+        if getattr(args, "output", None) not in (None, "-") and args.command in (
+                "run", "table", "punch", "check", "sweep", "simulate", "synth", "tolerance",
+                "report"):
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (nothing is printed there)
         else:
             return _closed_stream()
@@ -414,9 +416,11 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.common import take_stdin
     from sielaff.tools.output import changed_note
 
     try:
+        take_stdin(args)  # an input named -: standard input, called <stdin>
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
         if debug:
