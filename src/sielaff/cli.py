@@ -363,8 +363,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the assembly (default: the spec's [scene] branch, else open)")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
-            "conventions, arith, exit")
-    p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
+            "conventions, arith, exit, io (- for stdin, -o - for stdout)")
+    p.add_argument("topic", nargs="?", metavar="TOPIC",
+                   help="deck, conventions, arith, exit or io")
 
     p = add("punch", "punch an 80-column deck from a TOML spec with names and units "
             "(see decks/example.toml)")
