@@ -107,6 +107,7 @@ def cmd_balance(args) -> int:
         lines.append("  (the spec's weights and loads still reach the frame: counterweights "
                      "cancel the inertia forces only)")
     to_stdout = args.output == "-"  # the balanced design on stdout, the report on stderr
+    where = "standard output" if to_stdout else args.output
     if args.output:
         # -o -: the design in the input's form (a spec for a spec, a deck for a deck)
         as_spec = is_spec(path) if to_stdout else args.output.endswith(".toml")
@@ -118,15 +119,14 @@ def cmd_balance(args) -> int:
         spec = spec_dict(values, deck.exact_ranges, base)
         try:
             if as_spec:
-                spec_deck(spec, args.output)  # what table and check will read back
+                spec_deck(spec, where)  # what table and check will read back
                 text = spec_text(spec, f"{path} balanced by sielaff balance (Berkof-Lowen)")
             else:
-                text = punch_deck(spec, args.output, True)
+                text = punch_deck(spec, where, True)
         except PunchError as exc:
-            raise CommandError(f"{args.output}: the balanced design cannot be written: "
+            raise CommandError(f"{where}: the balanced design cannot be written: "
                                f"{exc}") from None
         written = m.replace(**{n: float(values[n]) for n in FIELD_NAMES})
-        where = "standard output" if to_stdout else args.output
         lines += ["", _written_line(where, as_spec, m, balanced, written, scene)]
         if to_stdout:
             if not write_stdout(text):
