@@ -9,11 +9,12 @@ field.
 
 from __future__ import annotations
 
+import io
 import os
 import signal
 import sys
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
 from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's statuses)
@@ -95,11 +96,12 @@ _STDIN: dict = {}
 #: The commands' input arguments that may be ``-``.
 INPUT_NAMES = ("deck", "spec", "listing", "golden")
 
-#: Lines (and bytes) read to tell a spec from a deck before deciding "deck".
+#: Lines read (each at most a card line's 4,096 bytes) to tell a spec from a deck before
+#: deciding "deck".
 SNIFF_LINES = 1000
 
 
-def take_stdin(args) -> None:
+def take_stdin(args: Any) -> None:
     """Turn a command's input named ``-`` into :data:`STDIN` (read when the command asks;
     at most one input may be ``-``).  Called once per run, before the command."""
     _STDIN.clear()
@@ -117,7 +119,7 @@ def is_stdin(path: str | None) -> bool:
     return path == STDIN and bool(_STDIN.get("taken"))
 
 
-def stdin_bytes():
+def stdin_bytes() -> BinaryIO:
     """Standard input as a binary stream; one line if it is closed (``0<&-``)."""
     stream = getattr(sys.stdin, "buffer", None)
     if stream is None:
@@ -157,19 +159,12 @@ def stdin_kind() -> str:
 class _Replay:
     """Standard input with the lines :func:`stdin_kind` read put back in front."""
 
-    def __init__(self, head: bytes, rest) -> None:
-        import io
-
+    def __init__(self, head: bytes, rest: BinaryIO) -> None:
         self._head, self._rest = io.BytesIO(head), rest
 
     def readline(self, limit: int = -1) -> bytes:
+        # the head holds whole lines as read with the deck reader's limit: no line spans it
         return self._head.readline(limit) or self._rest.readline(limit)
-
-    def read(self, n: int = -1) -> bytes:
-        data = self._head.read(n)
-        if n < 0:
-            return data + self._rest.read()
-        return data + (self._rest.read(n - len(data)) if len(data) < n else b"")
 
 
 def is_spec(path: str) -> bool:
@@ -224,11 +219,9 @@ def read_input_deck(path: str) -> Deck:
     return _STDIN["deck"]
 
 
-def stdin_text():
+def stdin_text() -> io.TextIOWrapper:
     """A text stream over standard input for a listing (``diff -``), ASCII as a listing
     file is opened; the caller detaches it (standard input stays open)."""
-    import io
-
     return io.TextIOWrapper(stdin_bytes(), encoding="ascii", errors="replace")
 
 
