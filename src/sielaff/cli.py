@@ -125,14 +125,16 @@ EXAMPLES = {
             "  sielaff diff example.asa golden/figure10.asa",
     "table": "example:\n  sielaff table decks/example.dat -o example.csv\n"
              "  sielaff table decks/example.dat --format json --only kinematics | head -3",
-    "check": "example:\n  sielaff check decks/example.dat",
+    "check": "example:\n  sielaff check decks/example.dat\n"
+             "  sielaff punch decks/example.toml | sielaff check - --format json",
     "plot": "example:\n  sielaff plot decks/example.dat -o plots\n"
             "  sielaff plot decks/example.dat -o plots --only kinematics",
     "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
     "help": "example:\n  sielaff help deck",
     "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md",
     "balance": "example:\n  sielaff balance decks/example.dat\n"
-               "  sielaff balance decks/scene.toml -o out/balanced.toml",
+               "  sielaff balance decks/scene.toml -o out/balanced.toml\n"
+               "  sielaff balance decks/si.toml -o - 2>/dev/null | sielaff table - | head -3",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
     "simulate": "example:\n  sielaff simulate decks/motor.toml -o out/motor.csv --plot "
