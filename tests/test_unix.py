@@ -37,8 +37,14 @@ STDOUT_COMMANDS = ("run", "table", "check", "punch", "balance", "sweep", "simula
 
 
 def test_the_lists_name_every_command():
+    """Every command that reads an input has a stdin test, every command that writes one
+    file a -o - test (plot, report and diff have their own below)."""
     assert set(STDIN_COMMANDS) | {"help", "bench"} == set(COMMANDS)
     assert set(STDOUT_COMMANDS) | {"plot", "bench", "diff", "help"} == set(COMMANDS)
+    paths = dict.fromkeys(("sweep", "motor", "synth", "tolerance"), Path("x.toml"))
+    assert set(stdin_cases(paths)) | {"plot", "report", "diff"} == set(STDIN_COMMANDS)
+    assert set(stdout_cases(paths)) | {"report"} == set(STDOUT_COMMANDS)
+    assert len(STDIN_COMMANDS) == 12 and len(STDOUT_COMMANDS) == 10
 
 
 # -- helpers ------------------------------------------------------------------------
@@ -100,8 +106,8 @@ def stdin_cases(small):
     }
 
 
-@pytest.mark.parametrize("command", ["run", "check", "table", "balance", "sweep", "simulate",
-                                     "synth", "tolerance", "punch"])
+@pytest.mark.parametrize("command", [c for c in STDIN_COMMANDS
+                                     if c not in ("plot", "report", "diff")])
 def test_dash_reads_stdin_as_the_file_is_read(command, small, monkeypatch):
     """The same output from ``-`` with the file on stdin as from the file, its name
     <stdin>; the deck (run, check) and the spec (the others) told apart by content."""
