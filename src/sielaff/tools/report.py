@@ -139,10 +139,11 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
     beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
     from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
-    from sielaff.tools.spec import read_spec, sweep_of
+    from sielaff.tools.common import is_spec, read_spec
+    from sielaff.tools.spec import sweep_of
     from sielaff.tools.sweep import _pareto, _plot
 
-    if not path.endswith(".toml"):
+    if not is_spec(path):
         return []
     spec = read_spec(path)
     if "sweep" not in spec:

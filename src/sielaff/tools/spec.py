@@ -372,6 +372,12 @@ def read_spec(path: str | os.PathLike[str]) -> dict:
             data = f.read(MAX_SPEC_BYTES + 1)  # /dev/zero, a huge file: never read whole
     except OSError as err:
         raise PunchError(f"{name}: cannot read the spec ({err.strerror or err})") from None
+    return parse_spec(data, name)
+
+
+def parse_spec(data: bytes, name: str) -> dict:
+    """The parsed TOML of a spec's bytes (at most :data:`MAX_SPEC_BYTES`, one more to
+    refuse a longer one); PunchError naming ``name`` if it is not a spec."""
     if len(data) > MAX_SPEC_BYTES:
         raise PunchError(f"{name}: longer than {MAX_SPEC_BYTES:,} bytes: not a spec (a spec "
                          "is a page of TOML)")

@@ -190,18 +190,28 @@ def cmd_synth(args) -> int:
     from sielaff.engine.classify import KINDS, linkage_class
     from sielaff.mechanism import FIELD_NAMES
     from sielaff.quantities import unit
-    from sielaff.tools.common import CommandError, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        input_exists,
+        read_spec,
+        refuse_bad_output,
+        refuse_stdout,
+        spec_path,
+    )
     from sielaff.tools.output import atomic_files
-    from sielaff.tools.spec import PunchError, read_spec, scene_of
+    from sielaff.tools.spec import PunchError, scene_of
 
     path = args.spec
+    if args.output == "-":
+        args.output = None  # -o -: the ranked table on stdout, the status on stderr
     refuse_bad_output(args.output, [path])
+    refuse_stdout(args.write_best, "--write-best writes several files into a folder")
     if args.write_best and os.path.exists(args.write_best) and \
             not os.path.isdir(args.write_best):
         raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
-    if not path.endswith(".toml"):
+    if not spec_path(path):
         raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
-    if not os.path.lexists(path):
+    if not input_exists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)

@@ -21,7 +21,6 @@ runs the blocks on dask's local threads when dask is installed (the same numbers
 
 from __future__ import annotations
 
-import os
 from decimal import Decimal
 
 KEYS = ("n", "seed", "distribution", "angles", "cf", "deviations")
@@ -109,15 +108,21 @@ def cmd_tolerance(args) -> int:
 
     from sielaff.design.tolerance import tolerance
     from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.common import CommandError, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        input_exists,
+        read_spec,
+        refuse_bad_output,
+        spec_path,
+    )
     from sielaff.tools.output import atomic_output
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+    from sielaff.tools.spec import PunchError, punch_deck, scene_of
 
     path = args.spec
     refuse_bad_output(args.output, [path])
-    if not path.endswith(".toml"):
+    if not spec_path(path):
         raise CommandError(f"{path}: tolerance reads a TOML spec with a [tolerance] table")
-    if not os.path.lexists(path):
+    if not input_exists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)

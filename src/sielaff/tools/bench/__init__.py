@@ -27,6 +27,9 @@ def _need(module: str, extra: str, what: str) -> None:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
+    if args.output == "-":
+        raise CommandError("sielaff: -o -: bench writes a report and its PNG figure, which "
+                           "standard output cannot hold: name the report's file")
     _need("mpmath", "bench", "bench (its 50-digit reference)")
     if args.output:
         _need("matplotlib", "bench", "bench -o (the report's figure)")
