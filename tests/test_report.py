@@ -368,7 +368,7 @@ def test_a_synthesis_spec_gets_its_ranking(pages):
 
     text = " ".join(" ".join(_check(pages["synth"]).text).split())
     assert "A synthesis (crank_rocker) in in-lb-sec units" in text
-    assert "32 candidates from 2 problem(s) (0 without a solution): all crank-rockers" in text
+    assert "32 candidates from 2 problems (0 without a solution): all crank-rockers" in text
     assert "The best candidates" in text and "[synthesis.crank_rocker]" in text  # the spec
     families = [synthesis.crank_rocker(45.0, q, rocker=10.0, th2d=10.0).members(8)
                 for q in (1.15, 1.25)]  # [synthesis.vary] time_ratio: problems 0 and 1

@@ -209,11 +209,11 @@ RANK_ROWS = 20
 DRAWN = 8
 
 
-def _ranking_columns(task: dict) -> list[str]:
+def _ranking_columns(r: Any) -> list[str]:
     """The figures the ranking table shows: the ranking's, the Pareto front's and the least
     transmission angle, each once (the page's width; the CSV of ``synth`` has all)."""
     shown: list[str] = []
-    for f in [*task["by"], *(task["pareto"] or []), "GAMMA_MIN"]:
+    for f in [*r.by, *r.pareto_by, "GAMMA_MIN"]:
         if f not in shown:
             shown.append(f)
     return shown
@@ -226,7 +226,7 @@ def _ranking_table(done: Any) -> str:
     from sielaff.design.sweep import column_units
 
     r = done.ranking
-    figs = _ranking_columns(done.task)
+    figs = _ranking_columns(r)
     lengths = ["R1", "R2", "R3", "R4"]
     units = column_units(lengths + figs, r.units)
     front = {int(i) for i in r.pareto}
@@ -252,9 +252,13 @@ def _kinds(done: Any) -> str:
 
     k = np.asarray(done.ranking.figures["KIND"], dtype=float)
     counts = [(KINDS[int(v)], int(np.sum(k == v))) for v in np.unique(k[np.isfinite(k)])]
-    if len(counts) == 1:
+    if len(counts) == 1 and counts[0][1] > 1:
         return f"all {counts[0][0]}s"
-    return ", ".join(f"{n} {kind}{'s' if n > 1 else ''}" for kind, n in counts)
+    return ", ".join(_count(n, kind) for kind, n in counts)
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def _candidates_figure(done: Any, at: float) -> bytes:
@@ -350,14 +354,15 @@ def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40
         f'<p class="sub">A synthesis ({html.escape(task["problem"])}) in '
         f"{html.escape(done.units)} units; scene: {html.escape(effects)}.</p>",
         "<h2>The ranking</h2>",
-        f"<p>{len(r)} candidates from {len(task['problems'])} problem(s) "
+        f"<p>{_count(len(r), 'candidate')} from {_count(len(task['problems']), 'problem')} "
         f"({len(done.refused)} without a solution): {_kinds(done)}, {turning} turning "
-        "fully; ranked "
-        f"by {html.escape(', '.join(r.by))} (the first deciding, ties to the next), each "
-        f"at TH2D = {task['speed']:g} rad/sec over {task['angles']} crank angles, "
-        f"FLYWHEEL_I for cf = {task['cf']:g}.  The first {min(len(r), RANK_ROWS)}; "
-        "<code>sielaff synth</code> writes every one with all its fields. <em>problem</em> "
-        "numbers the combinations of [synthesis.vary].</p>",
+        f"fully; ranked by {html.escape(', '.join(r.by))}"
+        + (" (the first deciding, ties to the next)" if len(r.by) > 1 else "")
+        + f", each at TH2D = {task['speed']:g} rad/sec over {task['angles']} crank angles. "
+        + (f"The first {RANK_ROWS}; " if len(r) > RANK_ROWS else "")
+        + "<code>sielaff synth</code> writes every one with all its fields"
+        + ("; <em>problem</em> numbers the combinations of [synthesis.vary]"
+           if task["vary"] else "") + ".</p>",
         _ranking_table(done),
     ]
     for line in done.refused[:5]:
