@@ -478,8 +478,8 @@ def _draw_polar(plt, d: PlotData):
     measured = text_boxes(fig)
     if overlapping(measured):
         # Rare: the estimate of a box was off.  Put the labels that collide on the curve's
-        # outside, further out, with a leader, avoiding everything measured now.  One draw
-        # measures every box; a moved label is re-measured alone (nothing else moves).
+        # outside, further out, with a leader, avoiding everything measured now.  The
+        # figure is measured again (a whole draw) only after a label has moved.
         for label in labels:
             others = [b for t, b in measured if t != label.get_text()]
             mine = Text.get_window_extent(label, renderer)
@@ -490,10 +490,7 @@ def _draw_polar(plt, d: PlotData):
             boxes = [(b[0] - cx, b[1] - cy, b[2] - cx, b[3] - cy) for b in others]
             (dx, dy, _), = _place_labels([marks[k]], curve, boxes, [sizes[k]])
             label.set_position((dx * to_pt, dy * to_pt))
-            label.update_positions(renderer)
-            bb = Text.get_window_extent(label, renderer)
-            measured = [(t, b) for t, b in measured if t != label.get_text()]
-            measured.append((label.get_text(), (bb.x0, bb.y0, bb.x1, bb.y1)))
+            measured = text_boxes(fig)
     return fig
 
 
@@ -541,9 +538,8 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.tools.common import CommandError, load_scene, refuse_stdout
+    from sielaff.tools.common import CommandError, load_scene
 
-    refuse_stdout(args.output, "plot writes several PNG files into a folder")
     try:
         _pyplot()
     except ImportError as exc:
