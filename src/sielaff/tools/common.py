@@ -379,6 +379,12 @@ def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
     if callable(scene.tex) or scene.tex:
         effects.append("TEX a function of THETA 4" if callable(scene.tex) else
                        f"TEX = {scene.tex:g} {unit('TEX', units)}")
+    if scene.has_friction:
+        effects.append("pin friction")
+    for kind in ("spring", "damper"):
+        n = sum(type(e).__name__.lower() == kind for e in scene.elements)
+        if n:
+            effects.append(f"{n} {kind}{'s' if n > 1 else ''}")
     if scene.branch != "open":
         effects.append(f"the {scene.branch} branch")
     return ", ".join(effects)
