@@ -12,8 +12,8 @@ from __future__ import annotations
 import os
 import signal
 import sys
-from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
 from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's statuses)
@@ -230,6 +230,17 @@ def no_scene() -> Scene:
 
 def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
+    deck, scene, _ = read_spec_with(path)
+    assert deck is not None
+    return deck, scene
+
+
+def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
+                   deck: bool = True) -> tuple[Deck | None, Scene, Any]:
+    """A TOML spec's deck (in its unit system; None with ``deck=False``, for a spec whose
+    linkages a command makes, as synth's), its :class:`~sielaff.Scene`, and
+    ``read(spec, path)``: the command's own table (``[tolerance]``, ``[synthesis]``,
+    ...).  Any fault is one CommandError naming the file and the key."""
     import dataclasses
 
     from sielaff.tools.spec import PunchError, read_spec, scene_of, spec_deck
@@ -239,10 +250,13 @@ def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     try:
         spec = read_spec(path)
         units, scene = scene_of(spec, path)
-        deck = spec_deck(spec, path)
+        own = None if read is None else read(spec, path)
+        made = spec_deck(spec, path) if deck else None
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
-    return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
+    if made is not None:
+        made = dataclasses.replace(made, mechanism=made.mechanism.replace(units=units))
+    return made, scene, own
 
 
 def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,

@@ -190,9 +190,8 @@ def cmd_synth(args) -> int:
     from sielaff.engine.classify import KINDS, linkage_class
     from sielaff.mechanism import FIELD_NAMES
     from sielaff.quantities import unit
-    from sielaff.tools.common import CommandError, refuse_bad_output
+    from sielaff.tools.common import CommandError, read_spec_with, refuse_bad_output
     from sielaff.tools.output import atomic_files
-    from sielaff.tools.spec import PunchError, read_spec, scene_of
 
     path = args.spec
     refuse_bad_output(args.output, [path])
@@ -201,14 +200,9 @@ def cmd_synth(args) -> int:
         raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
-    if not os.path.lexists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        units, scene = scene_of(spec, path)
-        task = read_synthesis(spec, path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
+    _, scene, (spec, task) = read_spec_with(
+        path, lambda spec, where: (spec, read_synthesis(spec, where)), deck=False)
+    units = spec.get("scene", {}).get("units", "in-lb-sec")  # checked by scene_of
     cands, origin, refused = [], [], []
     for i, params in enumerate(task["problems"]):
         where = f"{path}: [synthesis.{task['problem']}]"

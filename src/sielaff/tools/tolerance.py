@@ -21,7 +21,6 @@ runs the blocks on dask's local threads when dask is installed (the same numbers
 
 from __future__ import annotations
 
-import os
 from decimal import Decimal
 
 KEYS = ("n", "seed", "distribution", "angles", "cf", "deviations")
@@ -105,29 +104,23 @@ def table_lines(t, path: str) -> list[str]:
 
 
 def cmd_tolerance(args) -> int:
-    import dataclasses
-
     from sielaff.design.tolerance import tolerance
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.common import CommandError, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        mechanism_problem,
+        read_spec_with,
+        refuse_bad_output,
+    )
     from sielaff.tools.output import atomic_output
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
 
     path = args.spec
     refuse_bad_output(args.output, [path])
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: tolerance reads a TOML spec with a [tolerance] table")
-    if not os.path.lexists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        task = read_tolerance(spec, path)
-        units, scene = scene_of(spec, path)
-        mech_spec = {k: v for k, v in spec.items() if k != "tolerance"}
-        deck = parse_deck(punch_deck(mech_spec, path, any_units=True), path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
-    deck = dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units))
+    deck, scene, task = read_spec_with(path, read_tolerance)
+    problem = mechanism_problem(deck)  # the nominal design is a crank-rocker (else exit 3)
+    if problem is not None:
+        raise problem
     backend, workers = "process", None
     if args.workers and args.workers > 1:
         try:
