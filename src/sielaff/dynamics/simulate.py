@@ -42,6 +42,7 @@ f(w0) = w(start + 360 deg) - w0 (scipy.optimize.brentq), integrating in the cran
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -281,26 +282,39 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
             except FrictionError as exc:
                 raise SimulationError(str(exc)) from None
         deg = np.degrees(theta)
-        q = _torq(mechanism, sc, np.concatenate([deg, deg]), np.concatenate([w, w]),
-                  np.concatenate([np.zeros_like(w), np.ones_like(w)]))
+        with warnings.catch_warnings():  # a NaN is one line below, never a warning
+            warnings.simplefilter("ignore")
+            q = _torq(mechanism, sc, np.concatenate([deg, deg]), np.concatenate([w, w]),
+                      np.concatenate([np.zeros_like(w), np.ones_like(w)]))
+        bad = ~np.isfinite(q[: len(w)] + q[len(w):])
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise SimulationError(f"the friction iteration does not converge at THETA 2 = "
+                                  f"{deg[k] % 360.0:.6g} deg, TH2D = {w[k]:.6g} rad/sec "
+                                  "(the pin forces grow without bound)")
         q0, jj = q[: len(w)], q[len(w):] - q[: len(w)]
         a = (mt - q0) / (jj + f_in)
         if nonlinear:
             tol = 1e-12 * np.maximum(np.maximum(np.abs(mt), np.abs(q0)), 1e-300)
             todo = np.arange(len(w))
             for _ in range(50):
-                r = mt[todo] - f_in * a[todo] - _torq(mechanism, sc, deg[todo], w[todo],
-                                                       a[todo])
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    r = mt[todo] - f_in * a[todo] - _torq(mechanism, sc, deg[todo],
+                                                           w[todo], a[todo])
+                if not np.all(np.isfinite(r)):  # the engine's friction has no solution
+                    todo = todo[~np.isfinite(r)]
+                    break
                 done = np.abs(r) <= tol[todo]
                 a[todo] += np.where(done, 0.0, r / (jj[todo] + f_in))
                 todo = todo[~done]
                 if not len(todo):
                     break
-            else:
+            if len(todo):
                 k = todo[0]
                 raise SimulationError(f"the friction iteration does not converge at "
-                                      f"THETA 2 = {deg[k]:.6g} deg, TH2D = {w[k]:.6g} "
-                                      "rad/sec")
+                                      f"THETA 2 = {deg[k] % 360.0:.6g} deg, TH2D = "
+                                      f"{w[k]:.6g} rad/sec")
         return a
 
     def accel(theta: float, w: float) -> float:
