@@ -52,7 +52,10 @@ def spread(xs: list[float], fmt: str = "{:.3g}") -> str:
 
 def friction_rows(tols, n: int, rounds: int) -> list[dict]:
     """The friction fixed point's tolerance against CPU time and the power-identity error."""
-    from sielaff import EXAMPLE, PinFriction, Scene, analyze
+    from sielaff.engine.analysis import analyze
+    from sielaff.engine.friction import PinFriction
+    from sielaff.engine.scene import Scene
+    from sielaff.mechanism import EXAMPLE
 
     th = np.linspace(0.0, 360.0, n, endpoint=False)
     out = ["TORQ", "TORQ_FRICTION", "FRICTION_ITERATIONS", *PLOSS]
@@ -77,7 +80,10 @@ def friction_rows(tols, n: int, rounds: int) -> list[dict]:
 
 def friction_scene():
     """decks/friction.toml's scene, motor and flywheel."""
-    from sielaff import Motor, PinFriction, Scene, Spring
+    from sielaff.dynamics.motor import Motor
+    from sielaff.engine.elements import Spring
+    from sielaff.engine.friction import PinFriction
+    from sielaff.engine.scene import Scene
 
     return (Scene(friction=PinFriction(0.1, 0.25),
                   elements=[Spring((1, 18.0, 0.0), (4, 6.0, 0.0), 20.0, 8.0)]),
@@ -88,7 +94,8 @@ def energy_error(r, scene, fw: float) -> float:
     """|motor work - dKE - losses - dPE| / motor work over a run, from engine outputs."""
     from scipy.integrate import simpson
 
-    from sielaff import EXAMPLE, analyze
+    from sielaff.engine.analysis import analyze
+    from sielaff.mechanism import EXAMPLE
 
     m = EXAMPLE
     w = r["TH2D"]
@@ -107,8 +114,8 @@ def energy_error(r, scene, fw: float) -> float:
 
 def simulate_rows(rtols, methods, rounds: int, revolutions: float = 2.0) -> list[dict]:
     """simulate's rtol and method against CPU time, the energy error and the end error."""
-    from sielaff import EXAMPLE
     from sielaff.dynamics import simulate
+    from sielaff.mechanism import EXAMPLE
 
     scene, motor, fw = friction_scene()
     kw = dict(flywheel=fw, scene=scene, speed0=50.0, revolutions=revolutions,
@@ -135,9 +142,12 @@ def hard_cases() -> list[dict]:
     (one line, as the user reads it) and its CPU time."""
     import warnings
 
-    from sielaff import EXAMPLE, Motor, PinFriction, Scene, analyze
     from sielaff.dynamics import SimulationError, simulate
-    from sielaff.engine.friction import FrictionWarning
+    from sielaff.dynamics.motor import Motor
+    from sielaff.engine.analysis import analyze
+    from sielaff.engine.friction import FrictionWarning, PinFriction
+    from sielaff.engine.scene import Scene
+    from sielaff.mechanism import EXAMPLE
 
     scene, motor, fw = friction_scene()
     rows = []
