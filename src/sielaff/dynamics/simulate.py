@@ -18,9 +18,11 @@ w: B(th2) w^2 (inertia) + C(th2) w (dampers) + D(th2) (gravity, loads, TEX, spri
 ``simulate`` reads J, B, C and D from the engine on a grid of crank angles (five analyze
 calls of one array each, one of them a check that TORQ really is that quadratic), holds
 them as Fourier series (periodic and smooth; the grid doubles until the series' tail is
-below 1e-13 of its largest term) and integrates with those.  A scene where the check
-fails (pin friction: TORQ depends on |pin force|, nonlinear in a), or a series that does
-not converge (near a toggle), is integrated by calling the engine at each state instead:
+below 1e-13 of its largest term) and integrates with those.  Pin friction (TORQ depends
+on |pin force|, nonlinear in a) has tables of its own (:mod:`sielaff.dynamics.friction`:
+the pin forces' parts, the couples' statics and the speed ratios, a and the couples
+solved together per state).  Tables that fail their check against the engine, or a
+series that does not converge (near a toggle), are replaced by the engine at each state:
 J from two calls (a = 0 and a = 1), then, for friction, a short fixed-point iteration on a
 (a += (M - F a - TORQ(a)) / (J + F), secant slope J) to 1e-12 of the torque scale.
 
