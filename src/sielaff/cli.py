@@ -133,7 +133,8 @@ EXAMPLES = {
             "  sielaff plot decks/example.dat -o plots --only kinematics",
     "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
     "help": "example:\n  sielaff help deck",
-    "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md",
+    "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md\n"
+             "  sielaff bench --effects -o report/effects.md",
     "balance": "example:\n  sielaff balance decks/example.dat\n"
                "  sielaff balance decks/scene.toml -o out/balanced.toml\n"
                "  sielaff balance decks/si.toml -o - 2>/dev/null | sielaff table - | head -3",
@@ -248,6 +249,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true",
                    help="fewer ARCCOS points and port steps, one timing round "
                         "(about 10 s instead of about a minute)")
+    p.add_argument("--effects", action="store_true",
+                   help="instead: what accuracy costs in time for pin friction's solve "
+                        "and simulate (rtol, method) and the hard cases, a small grid, "
+                        "one round (needs scipy)")
     p.add_argument("-o", "--output", metavar="REPORT.md",
                    help="also write the markdown report here and its PNG beside it "
                         "(folders created); nothing is written without -o")

@@ -387,7 +387,8 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
     if effects:
         rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): the work "
                 "the scene's "
-                "loads and crank acceleration take (gravity's is zero)")
+                "loads, crank acceleration, friction and dampers take (gravity's and a "
+                "spring's are zero)")
     else:
         rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): "
                 + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))

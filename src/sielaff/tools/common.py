@@ -13,7 +13,7 @@ import io
 import os
 import signal
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any, BinaryIO
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
@@ -391,6 +391,17 @@ def no_scene() -> Scene:
 
 def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
+    deck, scene, _ = read_spec_with(path)
+    assert deck is not None
+    return deck, scene
+
+
+def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
+                   deck: bool = True) -> tuple[Deck | None, Scene, Any]:
+    """A TOML spec's deck (in its unit system; None with ``deck=False``, for a spec whose
+    linkages a command makes, as synth's), its :class:`~sielaff.Scene`, and
+    ``read(spec, path)``: the command's own table (``[tolerance]``, ``[synthesis]``,
+    ...).  Any fault is one CommandError naming the file and the key."""
     import dataclasses
 
     from sielaff.tools.spec import PunchError, scene_of, spec_deck
@@ -400,10 +411,13 @@ def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     try:
         spec = read_spec(path)
         units, scene = scene_of(spec, path)
-        deck = spec_deck(spec, path)
+        own = None if read is None else read(spec, path)
+        made = spec_deck(spec, path) if deck else None
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
-    return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
+    if made is not None:
+        made = dataclasses.replace(made, mechanism=made.mechanism.replace(units=units))
+    return made, scene, own
 
 
 def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
@@ -540,6 +554,12 @@ def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
     if callable(scene.tex) or scene.tex:
         effects.append("TEX a function of THETA 4" if callable(scene.tex) else
                        f"TEX = {scene.tex:g} {unit('TEX', units)}")
+    if scene.has_friction:
+        effects.append("pin friction")
+    for kind in ("spring", "damper"):
+        n = sum(type(e).__name__.lower() == kind for e in scene.elements)
+        if n:
+            effects.append(f"{n} {kind}{'s' if n > 1 else ''}")
     if scene.branch != "open":
         effects.append(f"the {scene.branch} branch")
     return ", ".join(effects)

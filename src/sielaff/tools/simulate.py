@@ -2,7 +2,7 @@
 motor (:func:`sielaff.dynamics.simulate`).
 
 The spec's mechanism and [scene] are the linkage and what acts on it; its ``[motor]``
-(:func:`motor_of`, read here: spec.py only lets the table through) is the motor, the
+(:func:`motor_of`, read here: spec_fields.py only lets the table through) is the motor, the
 flywheel, how many revolutions, or
 ``steady = true`` for one revolution of the periodic steady state.  The time history is
 CSV, the header naming each column with its unit (``t[s]``, ``ATH2[deg]`` unwrapped,
@@ -40,7 +40,7 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
     A missing, unknown or bad key is one line naming it.
     """
     from sielaff.dynamics.motor import Motor
-    from sielaff.tools.spec import PunchError, _float, _table, _unknown
+    from sielaff.tools.spec_fields import PunchError, _float, _table, _unknown
 
     where = f"{path}: [motor]"
     if "motor" not in spec:

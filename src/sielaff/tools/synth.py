@@ -206,17 +206,11 @@ def synthesize(path: str) -> Synthesis:
     candidates (``sielaff synth``, and the page ``sielaff report`` makes of such a spec);
     bad input is a CommandError of one line."""
     from sielaff import synthesis
-    from sielaff.tools.common import CommandError, input_exists, read_spec
-    from sielaff.tools.spec import PunchError, scene_of
+    from sielaff.tools.common import CommandError, read_spec_with
 
-    if not input_exists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        units, scene = scene_of(spec, path)
-        task = read_synthesis(spec, path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
+    _, scene, (spec, task) = read_spec_with(
+        path, lambda spec, where: (spec, read_synthesis(spec, where)), deck=False)
+    units = spec.get("scene", {}).get("units", "in-lb-sec")  # checked by scene_of
     cands, origin, refused = [], [], []
     for i, params in enumerate(task["problems"]):
         where = f"{path}: [synthesis.{task['problem']}]"

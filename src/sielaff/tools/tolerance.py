@@ -106,24 +106,14 @@ def table_lines(t, path: str) -> list[str]:
 def tolerance_spec(path: str):
     """(the nominal deck in the spec's units, its Scene, the checked ``[tolerance]``) of
     the spec at ``path`` (``sielaff tolerance``, and ``sielaff report``'s section);
-    bad input is a CommandError of one line."""
-    import dataclasses
+    bad input is a CommandError of one line, a nominal design that is not a
+    crank-rocker exit 3."""
+    from sielaff.tools.common import mechanism_problem, read_spec_with
 
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.common import CommandError, input_exists, read_spec
-    from sielaff.tools.spec import PunchError, punch_deck, scene_of
-
-    if not input_exists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        task = read_tolerance(spec, path)
-        units, scene = scene_of(spec, path)
-        mech_spec = {k: v for k, v in spec.items() if k != "tolerance"}
-        deck = parse_deck(punch_deck(mech_spec, path, any_units=True), path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
-    deck = dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units))
+    deck, scene, task = read_spec_with(path, read_tolerance)
+    problem = mechanism_problem(deck)  # the nominal design is a crank-rocker (else exit 3)
+    if problem is not None:
+        raise problem
     return deck, scene, task
 
 
