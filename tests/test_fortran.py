@@ -375,6 +375,7 @@ def _fuzz_one(tmp_path_factory, mutations, arith) -> None:
     event(" ".join(re.sub(r"[\d,.'\"]+", "#", kind).split()[:5]))
 
 
+@pytest.mark.slow
 @settings(max_examples=FUZZ_CI, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(_mutants)
