@@ -457,3 +457,23 @@ def test_check_past_thmax_by_roundoff_shows_the_digits_that_differ(tmp_path):
     text = " ".join(check_deck(read_deck(path), sheet_limit=0).text.split())
     assert "THETA 2 = 370.0 > THMAX = 360.0 (the 1966 loop prints a sheet before testing " \
            "ATH2.GT.THMAX)" in text
+
+
+def test_check_json_gives_the_texts_peaks_and_threshold(capsys):
+    """--format json's peak loads and bearings are the text's (one computation), with the
+    --bearing-threshold asked for."""
+    import json
+
+    from sielaff.design.bearings import bearings
+
+    assert main(["check", str(DECKS / "double-crank.dat"), "--format", "json",
+                 "--bearing-threshold", "0.1"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    pins = bearings(read_deck(DECKS / "double-crank.dat").mechanism, threshold=0.1)
+    for entry in data["bearings"]:
+        pin = pins[entry["pin"]]
+        assert entry["peak"]["value"] == pin.peak
+        assert data["peak_loads"][pin.force]["peak"]["value"] == pin.peak
+        assert [m["never_loaded_deg"] for m in entry["members"]] == \
+            [[list(a) for a in m.unloaded] for m in pin.members]
+    assert any("loads below 10% of the pin's peak" in line for line in data["report"])
