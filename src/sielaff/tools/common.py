@@ -206,6 +206,16 @@ def read_spec(path: str) -> dict:
     return specs.parse_spec(_STDIN["spec"], STDIN)
 
 
+def spec_source(path: str) -> str:
+    """The text of the spec at ``path`` as written (standard input's, once read by
+    :func:`read_spec`), for a page that shows it."""
+    if is_stdin(path):
+        read_spec(path)
+        return _STDIN["spec"].decode("utf-8", errors="replace")
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
 def read_input_deck(path: str) -> Deck:
     """The deck at ``path``, or on standard input (read card by card as a file is, once);
     its warnings are not printed."""

@@ -475,9 +475,10 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
 def _spec_tables(path: str) -> set[str]:
     """The top-level tables of a TOML spec (none for a deck, or a spec that cannot be
     read: its reader says why, in one line)."""
-    from sielaff.tools.spec import PunchError, read_spec
+    from sielaff.tools.common import is_spec, is_stdin, read_spec
+    from sielaff.tools.spec import PunchError
 
-    if not path.endswith(".toml") or not os.path.isfile(path):
+    if not is_spec(path) or not (is_stdin(path) or os.path.isfile(path)):
         return set()
     try:
         return set(read_spec(path))
@@ -487,7 +488,13 @@ def _spec_tables(path: str) -> set[str]:
 
 def cmd_report(args: Any) -> int:
     """``sielaff report DECK|SPEC -o FILE.html`` (``-o -``: stdout)."""
-    from sielaff.tools.common import CommandError, load_scene, mechanism_problem, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        load_scene,
+        mechanism_problem,
+        refuse_bad_output,
+        spec_source,
+    )
     from sielaff.tools.errors import EXIT_DECK
     from sielaff.tools.output import atomic_output
 
@@ -510,8 +517,7 @@ def cmd_report(args: Any) -> int:
             raise CommandError(f"sielaff: --branch {args.branch}: {args.deck} is a "
                                "synthesis, whose candidates each have their own branch")
         done = synthesize(args.deck)
-        with open(args.deck, encoding="utf-8") as f:
-            text = f.read()
+        text = spec_source(args.deck)
         with np.errstate(all="ignore"):
             page = synthesis_html(done, args.deck, text, command, at=args.at)
     else:

@@ -538,8 +538,9 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.tools.common import CommandError, load_scene
+    from sielaff.tools.common import CommandError, load_scene, refuse_stdout
 
+    refuse_stdout(args.output, "plot writes several PNG files into a folder")
     try:
         _pyplot()
     except ImportError as exc:
