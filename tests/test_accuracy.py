@@ -18,6 +18,9 @@ from sielaff.emulator.program import Program, ProgramError
 from sielaff.mechanism import EXAMPLE, crank_rocker_failure
 from sielaff.tools.bench import study as bench
 
+#: Every test here compares printed digits (tests/test_ulp_immunity.py re-runs them).
+pytestmark = pytest.mark.pinned
+
 # ----- Figures 10 and 11: what each model prints, field by field -------------------------
 #: model -> (the fields it certainly prints differently from the figures,
 #:           the fields within reach of a printed-digit boundary: THETA 2 and name).

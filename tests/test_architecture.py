@@ -6,6 +6,8 @@ read with ``ast``; nothing is imported.  docs/architecture.md draws the same lay
     cli                     parser and dispatch; imported by __main__ alone
     tools/                  commands (run, check, plot, punch, table, bench, helptext)
                             and what they share (common, errors, output, progress, spec)
+    synthesis/              linkages from requirements (on design/ and the engine)
+    design/                 design answers on the engine
     engine/   emulator/     the modern engine; the 1966 machine (neither imports the other)
     quantities              names, units, meanings
     mechanism               the mechanism a deck describes
@@ -63,10 +65,14 @@ def layer(name: str) -> float:
         return 7
     if name == "sielaff.cli":
         return 6
+    if name == "sielaff.tools.report":
+        return 5.5  # composes other commands' pages (check, plot, balance); none imports it
     if name.startswith("sielaff.tools."):
         return 5 if name not in SHARED_TOOLS else 4
     if name == "sielaff.tools":
         return 4
+    if name == "sielaff.synthesis" or name.startswith("sielaff.synthesis."):
+        return 3.75  # above design (it ranks on design's figures), below the tools
     if name == "sielaff.design" or name.startswith("sielaff.design."):
         return 3.5  # above the engine, below the tools
     if name.startswith(("sielaff.engine", "sielaff.emulator")):
@@ -75,7 +81,8 @@ def layer(name: str) -> float:
 
 
 def group(name: str) -> str:
-    for g in ("sielaff.tools", "sielaff.engine", "sielaff.emulator", "sielaff.design"):
+    for g in ("sielaff.tools", "sielaff.engine", "sielaff.emulator", "sielaff.design",
+              "sielaff.synthesis"):
         if name == g or name.startswith(g + "."):
             return g
     return name
@@ -91,6 +98,7 @@ def test_the_walk_sees_the_package():
             "sielaff.tools.common", "sielaff.emulator.arithmetic.ibm1410.number"} <= set(MODULES)
     assert "sielaff.engine.registry" in GRAPH["sielaff.engine.positions"]
     assert "sielaff.tools.bench.study" in GRAPH["sielaff.tools.bench"]
+    assert "sielaff.synthesis.common" in GRAPH["sielaff.synthesis.motion"]
 
 
 @pytest.mark.parametrize("name", sorted(n for n in MODULES if n != "sielaff"))

@@ -21,6 +21,7 @@ from sielaff.design.figures import figures
 from sielaff.design.sweep import Grid, iter_blocks
 from sielaff.engine import analyze
 from sielaff.engine.loads import Load
+from sielaff.engine.scene import Scene
 from sielaff.mechanism import EXAMPLE, crank_rocker_failure
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parent.parent
@@ -145,6 +146,7 @@ def test_balance_merges_point_masses_exactly():
     assert cw2.radius == 3.0 and cw4.radius == m.R4
 
 
+@pytest.mark.pinned
 def test_balance_command_prints_the_price_and_writes_a_deck(tmp_path):
     out = tmp_path / "balanced.dat"
     r = subprocess.run([sys.executable, "-m", "sielaff", "balance", "decks/example.dat",
@@ -342,7 +344,7 @@ def test_bearings_plot_draws_the_data_without_overlaps():
     from sielaff.tools.plot.render import overlapping, text_boxes
 
     deck = sielaff.read_deck(str(ROOT / "decks" / "example.dat"))
-    fig, pins = bearings_figure(deck, {})
+    fig, pins = bearings_figure(deck, Scene())
     axes = fig.axes
     for col, pin in enumerate(pins.values()):
         for row, member in enumerate(pin.members):

@@ -21,6 +21,9 @@ from conftest import GOLDEN, split_sheets
 from sielaff.emulator.listing import diff_listings, parse_listing
 from sielaff.tools.bench import study as bench
 
+#: Every test here compares printed digits (tests/test_ulp_immunity.py re-runs them).
+pytestmark = pytest.mark.pinned
+
 # (THETA 2, field) -> (float64 prints on every machine, the 1410 printed)
 FLOAT64_DIFFERENCES = {
     ("40.0", "DVG2"): ("130.0", "129.9"),

@@ -17,6 +17,9 @@ from sielaff.emulator.cards import parse_deck
 from sielaff.emulator.program import NotCrankRocker, Program
 from sielaff.emulator.run import run, sheet_values
 
+#: Every test here compares printed digits (tests/test_ulp_immunity.py re-runs them).
+pytestmark = pytest.mark.pinned
+
 #: ARCCOS stops when two partial sums differ by less than 1E-8; the tail of
 #: the series past that point is below 1E-8 times a factor < 2 for |x| <= 0.7
 #: (ratio of terms <= 0.49), and the reflected branch adds only roundoff.

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 
 import numpy as np
 import pytest
@@ -31,17 +32,22 @@ PARAMETERS = ["     3.0     8.0     6.0", "     0.0     0.5     0.4",
 
 
 def both(text: str, **options) -> tuple:
-    """(listing, stderr, error) of the port and of the vectorised path."""
+    """(listing, stderr, error) of the port and of the vectorised path, the latter once
+    writing text and once writing its blocks as bytes (``run(binary=...)``, the command's
+    way); the two vectorised results must be the same."""
     deck = parse_deck(text)
     results = []
-    for vectorised in (False, True):
-        out, err = io.StringIO(), io.StringIO()
+    for vectorised, as_bytes in ((False, False), (True, False), (True, True)):
+        out, err = io.TextIOWrapper(io.BytesIO(), encoding="ascii", newline="\n"), io.StringIO()
         error = None
         try:
-            run(deck, out, notice=notice_printer(err), vectorised=vectorised, **options)
+            run(deck, out, notice=notice_printer(err), vectorised=vectorised,
+                binary=out.buffer if as_bytes else None, **options)
         except (ProgramError, SheetLimit) as exc:
             error = (type(exc).__name__, str(exc))
-        results.append((out.getvalue(), err.getvalue(), error))
+        out.flush()
+        results.append((out.buffer.getvalue().decode("ascii"), err.getvalue(), error))
+    assert results[1] == results[2]
     return results[0], results[1]
 
 
@@ -149,3 +155,80 @@ def test_short_range_cards_go_to_the_port(monkeypatch):
     short = parse_deck("\n".join(PARAMETERS + ["    10.0    10.0     5.0"] * 50) + "\n")
     long = parse_deck("\n".join(PARAMETERS + ["    10.0     1.0   360.0"]) + "\n")
     assert not vector.applies(short) and vector.applies(long)
+
+
+def _bulk_against_printer(kind: str, x: np.ndarray) -> tuple[int, int]:
+    """(fields the bulk editor prints, how many of them differ from the printer's own
+    editor, the reference ``edit_e``/``edit_f``)."""
+    from sielaff.emulator.printer import edit_e, edit_f
+
+    edit = edit_e if kind == "E" else edit_f
+    with np.errstate(all="ignore"):
+        words, ok = (vector._edit_e if kind == "E" else vector._edit_f)(x)
+    text = words.view(np.uint8).reshape(x.size, 12)
+    wrong = sum(text[i].tobytes().decode("ascii") != edit(float(x[i]), 12, 4 if kind == "E"
+                                                             else 1)
+                for i in np.flatnonzero(ok))
+    return int(ok.sum()), wrong
+
+
+def test_bulk_f12_1_is_the_printers_past_1000():
+    """F12.1 in bulk on values past 1000 up to the first tier's limit (10**7), both signs:
+    random ones and ones next to the field's limits (each added digit, the 10-character
+    -9999999.9).  The bulk editor once printed 1234.56 as 0234.5 and called it good."""
+    rng = np.random.default_rng(25)
+    x = 10.0 ** rng.uniform(3.0, 7.0, 40_000)
+    edges = np.array([10.0 ** k + d for k in range(3, 8) for d in (-0.15, -0.05, 0.05, 0.15)])
+    x = np.concatenate([x, edges, [1234.56]])
+    x = np.concatenate([x, -x])
+    printed, wrong = _bulk_against_printer("F", x)
+    assert wrong == 0
+    assert printed >= 0.99 * x.size - 8  # all but values near a digit boundary and >= 10**7
+    with np.errstate(all="ignore"):
+        words, ok = vector._edit_f(np.array([1234.56, -9999999.95, 1e7 + 0.5]))
+    assert words[:2].view(np.uint8).tobytes() == b"      1234.5  -9999999.9"
+    assert ok.tolist() == [True, True, False]  # 10**7 and past: the printer's own editor
+
+
+@pytest.mark.parametrize("kind", ["E", "F"])
+def test_bulk_editors_are_the_printers(kind):
+    """Both bulk editors against the printer's reference on values of every size the
+    listing meets, both signs, zeros included."""
+    rng = np.random.default_rng(1966)
+    x = np.concatenate([10.0 ** rng.uniform(-3.0, 8.0, 20_000), rng.uniform(0.0, 2.0, 5_000),
+                        [0.0, 999.95, 1000.05]])
+    x = np.concatenate([x, -x])
+    printed, wrong = _bulk_against_printer(kind, x)
+    assert wrong == 0 and printed >= 0.9 * x.size
+
+
+def test_the_command_writes_the_blocks_as_bytes(tmp_path, monkeypatch):
+    """``sielaff run`` hands the blocks of sheets to the file's byte layer (the port's
+    sheets, with notices, in between as text): the same file as ``--port``, on stdout too."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from sielaff.cli import main
+
+    deck = tmp_path / "deck.dat"
+    deck.write_text("\n".join(PARAMETERS + ["   -20.0     1.0   380.0"]) + "\n")
+    used = []
+    real = vector.vector_run
+
+    def spy(*args, **kwargs):
+        used.append(args[-1] if len(args) > 9 else kwargs.get("emit_bytes"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(vector, "vector_run", spy)
+    assert main(["run", str(deck), "-o", str(tmp_path / "fast.lst")]) == 0
+    assert main(["run", str(deck), "--port", "-o", str(tmp_path / "port.lst")]) == 0
+    assert len(used) == 1 and used[0] is not None
+    fast, port = ((tmp_path / n).read_bytes() for n in ("fast.lst", "port.lst"))
+    assert fast == port and fast.count(b"THETA 2") == 402
+    root = Path(__file__).resolve().parents[1]
+    out = [subprocess.run([sys.executable, "-m", "sielaff", "run", str(deck), *extra],
+                          capture_output=True, check=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(root / "src")}).stdout
+           for extra in ([], ["--port"])]
+    assert out[0] == out[1] == port

@@ -30,6 +30,14 @@ MATH_FUNCS = ("sin", "cos", "atan", "acos", "asin", "atan2", "hypot", "exp", "lo
 def _nudge(value, exact, direction: float):
     """``value`` one ulp towards ``direction``, except where ``exact`` is true."""
     target = math.copysign(math.inf, direction)
+    if np.iscomplexobj(value):  # exp(1j x): each part is a sin or a cos
+        v = np.asarray(value)
+        moved = _nudge(v.real.copy(), exact, direction) + 1j * _nudge(v.imag.copy(), exact,
+                                                                       direction)
+        if isinstance(value, np.ndarray):
+            value[...] = moved
+            return value
+        return value.dtype.type(moved) if isinstance(value, np.generic) else complex(moved)
     if isinstance(value, np.ndarray | np.generic):
         moved = np.where(exact, value, np.nextafter(value, value.dtype.type(target)))
         if isinstance(value, np.ndarray):
@@ -58,20 +66,54 @@ def _wrap(func, direction: float):
 
 def _proxy(module, names, direction: float) -> types.SimpleNamespace:
     ns = types.SimpleNamespace(**{k: getattr(module, k) for k in dir(module)
-                                  if not k.startswith("__")})
+                                  if not k.startswith("__") or k == "__version__"})
     for name in names:
         setattr(ns, name, _wrap(getattr(module, name), direction))
     return ns
 
 
-def install(direction: float) -> None:
-    """Nudge every transcendental result of the engine and the port by one ulp."""
-    import sielaff.emulator.arithmetic.base as arithmetic
-    from sielaff.engine import accelerations, analysis, forces, outputs, positions, velocities
+#: Modules left alone: numba compiles the real ``math`` (a proxy cannot be compiled), and
+#: its answers are held to the numpy engine by a tolerance, not by printed digits.
+UNNUDGED = ("sielaff.engine.compiled",)
 
-    for module in (positions, velocities, accelerations, forces, outputs, analysis):
-        module.np = _proxy(np, NUMPY_FUNCS, direction)
-    arithmetic.math = _proxy(math, MATH_FUNCS, direction)
+
+def modules() -> list[types.ModuleType]:
+    """Every module of the package, imported (so that none escapes the nudge)."""
+    import importlib
+    import pkgutil
+
+    import sielaff
+
+    out = [sielaff]
+    for info in pkgutil.walk_packages(sielaff.__path__, "sielaff."):
+        if info.name in UNNUDGED or info.name.endswith("__main__"):
+            continue
+        try:
+            out.append(importlib.import_module(info.name))
+        except ImportError:  # an optional extra's module (numba, dask): not installed
+            continue
+    return out
+
+
+def install(direction: float) -> list[str]:
+    """Nudge every transcendental result of the engine, the design answers, the tools and
+    the port by one ulp: each module's ``np`` and ``math`` become proxies.  Returns the
+    names of the modules reached."""
+    import sielaff.emulator.arithmetic.base as arithmetic
+
+    npx, mathx = _proxy(np, NUMPY_FUNCS, direction), _proxy(math, MATH_FUNCS, direction)
+    reached = []
+    for module in modules():
+        hit = False
+        if getattr(module, "np", None) is np:
+            module.np = npx
+            hit = True
+        if getattr(module, "math", None) is math:
+            module.math = mathx
+            hit = True
+        if hit:
+            reached.append(module.__name__)
     for name in ("SIN", "COS", "ATAN"):
         setattr(arithmetic.Float32, name,
                 _wrap(getattr(arithmetic.Float32, name), direction))
+    return reached

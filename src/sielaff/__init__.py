@@ -6,9 +6,9 @@ The public API, in one place (everything else is reached through its module):
   (``sielaff.emulator.cards``).
 * ``Mechanism``, ``EXAMPLE``: the deck's parameters with the listing's names and units
   (``sielaff.mechanism``); ``Mechanism.replace(**fields)`` for sweeps.
-* ``analyze(mechanism, ath2, outputs=None, tex=0.0, *, th2dd=0.0, gravity=None,
-  loads=()) -> Results``, ``Load``, ``AssemblyWarning``: the modern numpy engine
-  (``sielaff.engine``), with the effects a scene calls for (docs/effects.md).
+* ``analyze(mechanism, ath2, outputs=None, *, scene=Scene(...)) -> Results``, ``Scene``,
+  ``Load``, ``AssemblyWarning``: the modern numpy engine (``sielaff.engine``), with the
+  effects a scene calls for (docs/effects.md).
 * ``linkage_class(mechanism)``: which four-bar it is (crank-rocker, double-crank, ...),
   its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
 * ``reachable(mechanism, n)``, ``point_motion(mechanism, ath2, link, r, angle)``: crank
@@ -25,13 +25,14 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Deck", "DeckError", "Load", "Mechanism", "Results",
+           "Scene",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
            "point_motion", "reachable", "read_deck"]
 
 
 def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
-    if name in ("analyze", "Results", "AssemblyWarning", "Load", "linkage_class",
+    if name in ("analyze", "Results", "AssemblyWarning", "Load", "Scene", "linkage_class",
                 "reachable", "point_motion"):
         from sielaff import engine
 

@@ -1,7 +1,5 @@
 """``python -m sielaff``: the same as the ``sielaff`` command."""
 
-import sys
+from sielaff.cli import entry
 
-from sielaff.cli import main
-
-sys.exit(main())
+entry()

@@ -127,6 +127,7 @@ EXAMPLES = {
                "  sielaff balance decks/scene.toml -o out/balanced.toml",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
+    "report": "example:\n  sielaff report decks/example.dat -o out/example.html",
 }
 
 
@@ -138,6 +139,7 @@ COMMANDS = {
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
+    "report": "sielaff.tools.report:cmd_report",
 }
 
 
@@ -284,6 +286,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
                         "(e.g. tcp://host:8786)")
 
+    p = add("report", "one self-contained HTML page for a deck or spec: its values with "
+            "units, kind, peaks, the linkage drawn and animated, the report's figures, "
+            "bearings, balancing, the 1966 quirks (needs matplotlib)")
+    p.add_argument("deck", metavar="DECK|SPEC.toml")
+    p.add_argument("-o", "--output", required=True, metavar="FILE.html",
+                   help="write the page here (atomically; - for stdout)")
+    p.add_argument("--at", type=float, default=40.0, metavar="DEG",
+                   help="the crank angle the linkage is drawn at (default 40)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly (default: the spec's [scene] branch, else open)")
+
     p = add("help", "help on a topic: deck (the card layout and units), "
             "conventions, arith, exit")
     p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
@@ -299,6 +312,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # what made an output (report)
     install_signal_handlers()
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
@@ -362,6 +376,20 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         return EXIT_DECK
 
 
+#: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS
+#: routine, so the pool is start-up cost and nothing else (benchmarks/listing.py measures
+#: it).  These ask the common BLAS builds for one thread.
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
+
+
+def one_blas_thread() -> None:
+    """Ask for a BLAS of one thread, unless the user set the variable: before numpy loads
+    (``import sielaff.cli`` does not load it), so only the command's entry points call it."""
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+
+
 def entry() -> None:
     """Console-script entry point."""
+    one_blas_thread()
     sys.exit(main())

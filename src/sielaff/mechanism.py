@@ -21,7 +21,8 @@ joining 2 and 3, B the pin joining 3 and 4.  RG3 is measured from A.
 equations apply the inertia force -m*a_G at G *and* the torque -ZI*alpha,
 which is D'Alembert's principle with ZI about the link's own centre of
 mass.  The emulator runs the program as written and the engine follows the
-same model; ZI2 never matters (link 2 turns at constant speed).
+same model.  ZI2 matters only when the crank accelerates (``Scene(th2dd=...)``): at
+constant speed, as in 1966, link 2 has no angular acceleration and ZI2 drops out.
 
 Each field is a float for the emulator; for the modern engine any field
 may be a numpy array that broadcasts against the crank angles.

@@ -32,8 +32,11 @@ conventions (docs/conventions.md):
     FOA and FOB what the moving links put on the frame at O2 and O4, SHAKE their
     sum (the shaking force on the frame)
   TORQ: the torque the drive puts on the crank; TEX: an external torque on link 4
-  units: in, lb, sec; W is a weight, mass = W / g with g = 386.088 in/sec^2;
-    gravity itself is not modelled (the 1966 program neglects it)"""
+  units: in, lb, sec (or SI: m, kg, N); W is a weight, mass = W / g with
+    g = 386.088 in/sec^2 (in SI W is the mass itself)
+  scene: the 1966 program's by default (constant crank speed, no gravity, TEX the
+    only load); gravity, crank acceleration and loads are modelled when a spec's
+    [scene] or the API's Scene turns them on (docs/effects.md)"""
 
 _POINTS = {"G2": "the centre of mass G2 of link 2", "A": "pin A (links 2 and 3)",
            "G3": "the centre of mass G3 of link 3", "B": "pin B (links 3 and 4)",

@@ -33,6 +33,7 @@ import numpy as np
 
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
+from sielaff.engine.scene import Scene, scene_from
 from sielaff.mechanism import Mechanism
 
 __all__ = ["Member", "Pin", "bearings", "unloaded_arcs"]
@@ -80,7 +81,7 @@ class Pin:
     at: float
     theta2: np.ndarray
     load: np.ndarray
-    members: tuple[Member, Member] = field(default=())
+    members: tuple[Member, ...] = field(default=())
 
 
 def unloaded_arcs(direction: np.ndarray) -> list[tuple[float, float]]:
@@ -124,16 +125,18 @@ def _reversals(along: np.ndarray) -> int:
     return int(np.count_nonzero(s != np.roll(s, -1)))
 
 
-def bearings(mechanism: Mechanism, n: int = SAMPLES, **scene: Any) -> dict[str, Pin]:
+def bearings(mechanism: Mechanism, n: int = SAMPLES, *, scene: Scene | None = None,
+             **keywords: Any) -> dict[str, Pin]:
     """The four pins of ``mechanism`` (one design, a crank that turns fully) over one
-    revolution of ``n`` positions, with the scene's effects."""
+    revolution of ``n`` positions, in ``scene`` (or the Scene of ``analyze``'s keywords)."""
+    sc = scene_from(scene, keywords, "bearings")
     if any(np.ndim(v) for v in mechanism.as_tuple()):
         raise ValueError("bearings: one design at a time (the mechanism's fields are arrays)")
     if not bool(linkage_class(mechanism).turns_fully):
         raise ValueError("the crank cannot make a whole revolution: no bearing cycle")
     th = np.arange(n) * (360.0 / n)
     want = ["ATH2", "ATH3", "ATH4"] + [p[0] + s for p in PINS.values() for s in ("X", "Y")]
-    r = analyze(mechanism, th, want, **scene)
+    r = analyze(mechanism, th, want, scene=sc)
     pins = {}
     for pin, (name, sign, first, second) in PINS.items():
         fx, fy = r[name + "X"], r[name + "Y"]

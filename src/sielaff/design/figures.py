@@ -25,6 +25,7 @@ import numpy as np
 from sielaff.design.flywheel import flywheel_from_torque
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import KINDS, linkage_class
+from sielaff.engine.scene import Scene, scene_from
 from sielaff.mechanism import Mechanism
 
 __all__ = ["FIGURES", "figures"]
@@ -47,10 +48,11 @@ FIGURES = {
 _NEED = ["TORQ", "FOA", "FA32", "FB34", "FOB", "SHAK", "SHAKM", "GAMMA"]
 
 
-def figures(mechanism: Mechanism, n: int = 360, cf: float = 0.05, **scene: Any
-            ) -> dict[str, np.ndarray]:
+def figures(mechanism: Mechanism, n: int = 360, cf: float = 0.05, *,
+            scene: Scene | None = None, **keywords: Any) -> dict[str, np.ndarray]:
     """The :data:`FIGURES` of each design of ``mechanism`` (fields of shape (D,) or
-    scalars)."""
+    scalars) in ``scene`` (a TEX of shape (D, 1) is one per design)."""
+    sc = scene_from(scene, keywords, "figures")
     fields = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in
               mechanism.as_dict().items()}
     d = np.broadcast_shapes(*(v.shape for v in fields.values()))
@@ -66,11 +68,11 @@ def figures(mechanism: Mechanism, n: int = 360, cf: float = 0.05, **scene: Any
     if not ok.any():
         return out
     sub = m.replace(**{k: v[ok][:, None] for k, v in fields.items()})
-    if np.ndim(scene.get("tex", 0.0)) == 2:  # a sweep's TEX, one per design
-        scene = dict(scene, tex=np.asarray(scene["tex"])[ok])
+    if not callable(sc.tex) and np.ndim(sc.tex) == 2:  # a sweep's TEX, one per design
+        sc = sc.replace(tex=np.asarray(sc.tex)[ok])
     th = np.arange(n) * (360.0 / n)
     with np.errstate(all="ignore"):
-        r = analyze(sub, th, _NEED, **scene)
+        r = analyze(sub, th, _NEED, scene=sc)
     torq = r["TORQ"]
     out["TORQ_PEAK"][ok] = np.max(np.abs(torq), axis=1)
     out["TORQ_RMS"][ok] = np.sqrt(np.mean(torq * torq, axis=1))

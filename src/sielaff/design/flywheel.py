@@ -33,6 +33,7 @@ import numpy as np
 
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
+from sielaff.engine.scene import Scene, scene_from
 from sielaff.mechanism import Mechanism
 
 __all__ = ["Flywheel", "flywheel", "flywheel_from_torque"]
@@ -128,15 +129,16 @@ def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
                     flywheel_torque=t - mean[..., None], speed=speed)
 
 
-def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, **scene: Any
-             ) -> Flywheel:
+def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, *,
+             scene: Scene | None = None, **keywords: Any) -> Flywheel:
     """The flywheel on the crank shaft of ``mechanism`` for coefficient ``cf``.
 
-    ``scene``: ``analyze``'s effect keywords (tex, gravity, loads; the crank speed is the
-    steady TH2D, so ``th2dd`` must be 0).  The mechanism's fields may be arrays (designs).
+    ``scene``: the :class:`~sielaff.Scene` (or ``analyze``'s keywords); the crank speed
+    is the steady TH2D, so its ``th2dd`` must be 0.  The mechanism's fields may be arrays (designs).
     Raises ValueError for a linkage whose crank cannot turn fully.
     """
-    if np.any(np.asarray(scene.get("th2dd", 0.0)) != 0.0) or callable(scene.get("th2dd")):
+    sc = scene_from(scene, keywords, "flywheel")
+    if callable(sc.th2dd) or np.any(np.asarray(sc.th2dd) != 0.0):
         raise ValueError("a flywheel is sized at a steady mean speed: th2dd must be 0")
     if not np.all(linkage_class(mechanism).turns_fully):
         raise ValueError("the crank cannot make a whole revolution: no flywheel cycle")
@@ -145,5 +147,5 @@ def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, **scene: 
     ath2 = theta.reshape((1,) * fields.nd + (n,))
     m = mechanism.replace(**{name: np.asarray(v)[..., None]
                              for name, v in mechanism.as_dict().items()})
-    torq = analyze(m, ath2, ["TORQ"], **scene)["TORQ"]
+    torq = analyze(m, ath2, ["TORQ"], scene=sc)["TORQ"]
     return flywheel_from_torque(torq, np.asarray(mechanism.TH2D, dtype=float), cf)

@@ -15,6 +15,7 @@ from sielaff.design.balance import counterweights
 from sielaff.design.bearings import Pin
 from sielaff.design.flywheel import Flywheel
 from sielaff.engine.analysis import analyze
+from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
 from sielaff.quantities import unit
 
@@ -95,12 +96,12 @@ ROWS = (
 )
 
 
-def compare(before: Mechanism, after: Mechanism, n: int = 3600, **scene: Any
-            ) -> list[tuple[str, str, float, float]]:
+def compare(before: Mechanism, after: Mechanism, n: int = 3600, *,
+            scene: Scene | None = None) -> list[tuple[str, str, float, float]]:
     """(label, unit, before, after) for :data:`ROWS` over one revolution."""
     th = np.arange(n) * (360.0 / n)
     names = sorted({r[1] for r in ROWS})
-    a, b = analyze(before, th, names, **scene), analyze(after, th, names, **scene)
+    a, b = analyze(before, th, names, scene=scene), analyze(after, th, names, scene=scene)
     out = []
     for label, name, how in ROWS:
         vals = []
@@ -113,7 +114,7 @@ def compare(before: Mechanism, after: Mechanism, n: int = 3600, **scene: Any
 
 
 def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
-                  radius4: Any = None, **scene: Any) -> list[str]:
+                  radius4: Any = None, *, scene: Scene | None = None) -> list[str]:
     """The counterweights and the comparison, side by side."""
     system = before.units
     w, r = unit("W2", system), unit("R1", system)
@@ -129,6 +130,6 @@ def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
     out.append("")
     out.append("Before and after, over one revolution (modern engine)")
     out.append(f"  {'':24} {'before':>11} {'after':>11}")
-    for label, u, b, a in compare(before, after, **scene):
+    for label, u, b, a in compare(before, after, scene=scene):
         out.append(f"  {label:24} {_num(b, b)} {_num(a, b)} {u}")
     return out

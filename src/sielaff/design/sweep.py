@@ -30,6 +30,7 @@ import numpy as np
 
 from sielaff.design.balance import balance
 from sielaff.design.figures import FIGURES, figures
+from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 
 __all__ = ["BLOCK", "SWEEPABLE", "Grid", "block", "iter_blocks"]
@@ -61,7 +62,7 @@ class Grid:
         return {name: vals[i] for name, vals, i in zip(self.names, self.values, idx)}
 
 
-def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: dict
+def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: Scene
           ) -> dict[str, np.ndarray]:
     """Grid values and figures of designs start..stop-1."""
     values = grid.designs(start, stop)
@@ -84,10 +85,10 @@ def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: dict
                 merged[k] = v
             m = m.replace(**merged)
     if "TEX" in values:
-        scene = dict(scene, tex=values["TEX"][:, None])  # one TEX per design
+        scene = scene.replace(tex=values["TEX"][:, None])  # one TEX per design
     out = {"DESIGN": np.arange(start, stop, dtype=float)}
     out.update(values)
-    out.update(figures(m, n=n, cf=cf, **scene))
+    out.update(figures(m, n=n, cf=cf, scene=scene))
     return out
 
 
@@ -99,7 +100,7 @@ def _blocks(size: int, size_of_block: int) -> list[tuple[int, int]]:
     return [(i, min(i + size_of_block, size)) for i in range(0, size, size_of_block)]
 
 
-def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: dict | None = None,
+def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None = None,
                 backend: str = "process", client: Any = None, size_of_block: int = BLOCK,
                 batch: int = 64, workers: int | None = None) -> Iterator[np.ndarray]:
     """Yield 2-D arrays (designs x :func:`columns`) in design order.
@@ -109,7 +110,7 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: dict | None =
     of them: default one per core).  Dask runs
     ``batch`` blocks at a time, so results stream out at flat memory.
     """
-    scene = dict(scene or {})
+    scene = Scene() if scene is None else scene
     cols = columns(grid)
     spans = _blocks(grid.size, size_of_block)
 

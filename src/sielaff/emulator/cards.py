@@ -19,7 +19,9 @@ Blank lines
     file: lines that are empty or hold only blanks after the last non-blank
     card are not cards (the file's trailing newline, editor padding).
     Dropping a line of blanks there adds a warning; dropping an empty line
-    does not.
+    does not.  A run of blank lines is counted, not kept, and a deck holds at
+    most ``MAX_RANGE_CARDS`` range cards: a longer one (blank lines count until
+    the deck ends, so a pipe of endless blank lines too) is one DeckError.
 
 Fw.d input (``read_field``), as the FORTRAN input routines of the period
     * Leading blanks are ignored; every other blank in the field reads as
@@ -248,6 +250,10 @@ def parse_card(text: str, n: int, card_no: int, path: str) -> list[float]:
 LINE_LIMIT = 4096
 #: Warnings kept in ``Deck.warnings``; past this one line says how many more there were.
 MAX_WARNINGS = 100
+#: Range cards a deck may hold (24 + 24 bytes each in memory: about 48 MB at the limit).
+#: Lines past the six parameter cards and this many are refused, blank ones too, so a
+#: deck from a pipe that never ends stops with one line, at flat memory.
+MAX_RANGE_CARDS = 1_000_000
 
 _BAD_CHARACTER = re.compile(r"[^ -~]")
 #: A field of the usual form (blanks, a sign, digits with a decimal point): its value is
@@ -384,19 +390,27 @@ def _read(f, path: str) -> Deck:
     warnings: list[str] = []
     exact: dict[str, Decimal] = {}
     values, texts = array("d"), bytearray()
-    pending: list[tuple[int, str]] = []  # blank lines: cards if another card follows
+    # Blank lines since the last card: cards if another card follows, else dropped.  Kept
+    # as a count (they are all the same card) and the first line numbers of those that
+    # hold blanks (for the warnings), so a run of them costs no memory.
+    limit = len(PARAMETER_CARDS) + MAX_RANGE_CARDS
     last = 0
+    padded: list[int] = []
     for n, line in _lines(f, path, warnings):
+        if n > limit:
+            raise DeckError(path, f"more than {MAX_RANGE_CARDS:,} range cards (the reader's "
+                            "limit; blank lines count until the deck ends)", n)
         if not line.strip(" "):
-            pending.append((n, line))
+            if line and len(padded) <= MAX_WARNINGS:
+                padded.append(n)
             continue
-        for card in (*pending, (n, line)):
-            _card(*card, path, warnings, exact, values, texts)
-        pending.clear()
+        for blank in range(last + 1, n):
+            _card(blank, "", path, warnings, exact, values, texts)
+        _card(n, line, path, warnings, exact, values, texts)
+        padded.clear()
         last = n
-    for n, line in pending:
-        if line:
-            warnings.append(f"{path}: card {n}: blank line at end of file ignored")
+    for n in padded:
+        _warn(warnings, f"{path}: card {n}: blank line at end of file ignored")
     if last == 0:
         raise DeckError(path, "empty deck (no cards)")
     if last < len(PARAMETER_CARDS):

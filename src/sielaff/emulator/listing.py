@@ -18,6 +18,11 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 
+from sielaff.emulator.printer import RECORDS_PER_SHEET
+
+#: The longest line read: a listing line is 133 characters, a longer one is not a listing.
+LINE_LIMIT = 1 << 16
+
 #: heading text -> (field names per value line, kind of each line: "E" or "F")
 SECTIONS: dict[str, tuple[tuple[tuple[str, ...], str], ...]] = {
     "THETA 2": ((("ATH2", "ATH3", "ATH4"), "F"),),
@@ -101,6 +106,22 @@ class Sheet:
         return f.text.strip() if f else "?"
 
 
+def listing_lines(f, limit: int = LINE_LIMIT) -> Iterator[str]:
+    """The lines of the text file ``f``, read at most ``limit`` characters at a time: a
+    longer line, or a NUL character (``/dev/zero``, a binary file), is a ListingError at
+    once, so a file with no line ends is never read whole, nor read for ever."""
+    for n in itertools.count(1):
+        line = f.readline(limit)
+        if not line:
+            return
+        if "\0" in line:
+            raise ListingError(f"line {n}: not a listing (binary data: a NUL character)")
+        if len(line) == limit and not line.endswith("\n"):
+            raise ListingError(f"line {n}: longer than {limit:,} characters, not a listing "
+                               "(a listing line is 133)")
+        yield line
+
+
 def asa_records(lines: Iterable[str]) -> Iterator[str]:
     """ASA records from the lines of a listing, either as ``sielaff run`` prints it (ASA
     carriage control in column 1) or as ``--render`` prints it (plain text, a form feed
@@ -137,6 +158,9 @@ def iter_sheets(records: Iterable[str]) -> Iterator[Sheet]:
             sheet = Sheet(line=lineno + 1)
             pending = []
             continue
+        if lineno - sheet.line >= RECORDS_PER_SHEET:  # a sheet has 59: bounded time
+            raise ListingError(f"line {lineno}: more than {RECORDS_PER_SHEET:,} lines with "
+                               "no page eject: not a listing")
         if not stripped:
             continue
         heading = next((h for h in SECTIONS if stripped.startswith(h)), None)

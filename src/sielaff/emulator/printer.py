@@ -36,6 +36,17 @@ class FormatError(ValueError):
     """A FORMAT text this interpreter does not understand."""
 
 
+#: The longest record: carriage control and 132 print positions (the IBM 1403 had 120,
+#: and 12 more as an option: https://en.wikipedia.org/wiki/IBM_1403).  A FORMAT whose
+#: record is longer, counting every field, is refused, which also bounds its repeat
+#: counts, widths and decimals.
+RECORD_LIMIT = 133
+#: Records between two page ejects that a listing may hold (a 1966 sheet has 59): the
+#: interpreter stops a program printing more, and the listing reader refuses a file
+#: with more (a stream of blank lines that never ends).
+RECORDS_PER_SHEET = 1_000
+
+
 def decimal_parts(value) -> tuple[bool, str, int] | None:
     """Split ``value`` into (negative, digits, exponent) with value = 0.digits x 10**exponent.
 
@@ -325,7 +336,23 @@ def compile_format(text: str) -> list[tuple]:
         raise FormatError(f"FORMAT must be parenthesised: {text!r}")
     body = body[1:-1]
     items: list[tuple] = []
-    pos = 0
+    pos, width = 0, 0  # characters of the record so far
+
+    def count(digits: str | None, default: int = 1) -> int:
+        # a count past the record is refused before it is converted (or expanded)
+        if digits and len(digits.lstrip("0")) > len(str(RECORD_LIMIT)):
+            raise FormatError(f"{digits} in FORMAT {text!r} is past the {RECORD_LIMIT} "
+                              "characters of a printed record")
+        return int(digits) if digits else default
+
+    def grow(n: int, what: str) -> None:
+        nonlocal width
+        width += n
+        if width > RECORD_LIMIT:
+            raise FormatError(f"a record of FORMAT {text!r} is more than {RECORD_LIMIT} "
+                              f"characters wide at {what!r} (carriage control and the "
+                              "1403 printer's 132 print positions)")
+
     while pos < len(body):
         m = _ITEM.match(body, pos)
         if not m:
@@ -333,17 +360,26 @@ def compile_format(text: str) -> list[tuple]:
         rep, kind, w, d, nx, nh, slash, _comma = m.groups()
         pos = m.end()
         if kind:
-            items += [("edit", _EDITORS[kind.upper()], int(w), int(d))] * int(rep or 1)
+            n, wide, decimals = count(rep), count(w), count(d)
+            if decimals > wide:
+                raise FormatError(f"{m.group().strip()} in FORMAT {text!r}: {decimals} "
+                                  f"decimals do not fit a field {wide} wide")
+            grow(n * wide, m.group().strip())
+            items += [("edit", _EDITORS[kind.upper()], wide, decimals)] * n
         elif nx is not None:
-            items.append(("lit", " " * int(nx or 1)))
+            n = count(nx)
+            grow(n, m.group().strip())
+            items.append(("lit", " " * n))
         elif nh:
-            n = int(nh)
+            n = count(nh)
             if pos + n > len(body):
                 raise FormatError(f"Hollerith field runs past the end of {text!r}")
+            grow(n, m.group().strip() + body[pos:pos + n])
             items.append(("lit", body[pos:pos + n]))
             pos += n
         elif slash:
             items.append(("/",))
+            width = 0
     return items
 
 

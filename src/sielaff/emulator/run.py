@@ -14,7 +14,7 @@ import math
 import re
 import sys
 from collections.abc import Callable, Iterator
-from typing import TextIO
+from typing import BinaryIO, TextIO
 
 from sielaff.emulator import program as _program_module
 from sielaff.emulator.arithmetic import ArithmeticError1410, get_arithmetic
@@ -163,7 +163,7 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
         notice: Callable[[str, str], None] | None = None,
         kinematics_only: bool = False, max_sheets: int | None = None,
         progress: Callable[[int], None] | None = None, tex: float = 0.0,
-        vectorised: bool = True) -> int:
+        vectorised: bool = True, binary: BinaryIO | None = None) -> int:
     """Print the listing of ``deck`` on ``out`` (one ASA record per line); ``tex`` is the
     report's edit of statement 74 (``TEX = constant``, in-lb).
 
@@ -176,7 +176,10 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     The listing is written a sheet at a time (one ``out.write`` per sheet),
     so memory stays constant; a sheet that fails is not written.
     ``progress(n)``, if given, is called with the sheets so far: after each sheet (the
-    port), or after each block of sheets (many at a time).
+    port), or after each block of sheets (many at a time).  ``binary``, if given, is the
+    byte stream under ``out`` that text written to ``out`` reaches unchanged (an ASCII-
+    compatible encoding, "\n" written as "\n"): the blocks of sheets go there as bytes,
+    ``out`` flushed first, which spares decoding and encoding them.
     """
     notice = notice or (lambda kind, text: None)
     ar = get_arithmetic(arithmetic, on_error=lambda text: notice("library", text))
@@ -191,8 +194,14 @@ def run(deck, out: TextIO, arithmetic: str = "float64",
     try:
         with quiet:
             if counts is not None:  # many sheets at a time; the port prints special ones
+                emit_bytes = None
+                if binary is not None:
+                    def emit_bytes(data: memoryview) -> None:
+                        out.flush()
+                        binary.write(data)
                 return vector.vector_run(deck, out.write, notice, _SheetWriter,
-                                         kinematics_only, max_sheets, progress, tex, counts)
+                                         kinematics_only, max_sheets, progress, tex, counts,
+                                         emit_bytes)
             sheets = Program(ar, notice).MAIN(deck, writer.write, kinematics_only, max_sheets,
                                               tex)
     except NotCrankRocker:

@@ -42,6 +42,7 @@ and on the 36,001-sheet deck of benchmarks/listing.py.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable
 
@@ -107,12 +108,14 @@ def numpy_matches_libm() -> bool:
     on 20,000 arguments spread over the range the program meets)."""
     global _LIBM_CHECKED
     if _LIBM_CHECKED is None:
-        x = np.random.default_rng(1966).uniform(-20.0, 20.0, 20_000)
+        # multiples of the golden ratio modulo 1 spread evenly over [-20, 20) (and need
+        # no numpy.random, whose import costs start-up)
+        x = 40.0 * np.modf(np.arange(20_000) * 0.6180339887498949)[0] - 20.0
         x[:4] = (0.0, -0.0, math.pi / 2, 3.14159265 / 2)
-        xs = x.tolist()
-        _LIBM_CHECKED = (np.sin(x).tolist() == [math.sin(v) for v in xs]
-                         and np.cos(x).tolist() == [math.cos(v) for v in xs]
-                         and np.sqrt(np.abs(x)).tolist() == [math.sqrt(abs(v)) for v in xs])
+        xs, root = x.tolist(), np.sqrt(np.abs(x))
+        _LIBM_CHECKED = (np.sin(x).tolist() == list(map(math.sin, xs))
+                         and np.cos(x).tolist() == list(map(math.cos, xs))
+                         and root.tolist() == list(map(math.sqrt, np.abs(x).tolist())))
     return _LIBM_CHECKED
 
 
@@ -191,10 +194,12 @@ def _vector(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     RAD = 57.2957795
     with np.errstate(divide="ignore", invalid="ignore"):
         ARC = np.arctan(np.abs(Y) / np.abs(X))
-    ANG = np.where(X == 0.0,
-                   np.where(Y < 0.0, (3.0 * PI) / 2.0, np.where(Y > 0.0, PI / 2.0, 0.0)),
-                   np.where(X > 0.0, np.where(Y < 0.0, 2.0 * PI - ARC, ARC),
-                            np.where(Y < 0.0, PI + ARC, PI - ARC)))
+    below = Y < 0.0
+    ANG = np.where(X > 0.0, np.where(below, 2.0 * PI - ARC, ARC),
+                   np.where(below, PI + ARC, PI - ARC))
+    axis = X == 0.0
+    if axis.any():
+        ANG[axis] = np.where(below, (3.0 * PI) / 2.0, np.where(Y > 0.0, PI / 2.0, 0.0))[axis]
     return np.sqrt(X * X + Y * Y), ANG * RAD
 
 
@@ -346,59 +351,102 @@ def _sheets(m, ATH2: np.ndarray, tex: float, kinematics_only: bool):
 
 # -- printing ----------------------------------------------------------------
 
+# Each 12-character field is built as three 4-byte words (uint32 views of byte tables),
+# so that a field costs a few table lookups, not a dozen column writes.
+
+
+def _words(text: np.ndarray) -> np.ndarray:
+    """(m, 4k) bytes as (m, k) uint32 words (the same bytes, any byte order)."""
+    return np.ascontiguousarray(text).view(np.uint32)
+
+
+def _digit_table(n: np.ndarray, places: int, lead: str) -> np.ndarray:
+    """The last ``places`` decimal digits of ``n`` as bytes (len(n), places), leading
+    zeros kept ("0") or blanked (" ")."""
+    power = 10 ** np.arange(places - 1, -1, -1)
+    table = (n[:, None] // power % 10 + ord("0")).astype(np.uint8)
+    if lead == " ":
+        table[n[:, None] < power] = ord(" ")
+    return table
+
+
+def _signed(n: np.ndarray, places: int) -> np.ndarray:
+    """Bytes (2, len(n), places): n right-justified without leading zeros, and as the
+    same with a minus sign before its first digit (n = 0: the sign alone)."""
+    plain = _digit_table(n, places, " ")
+    minus = plain.copy()
+    width = (n[:, None] >= 10 ** np.arange(places)).sum(axis=1)
+    minus[np.arange(n.size), places - 1 - width] = ord("-")
+    return np.stack([plain, minus])
+
+
+_DIGITS4 = np.arange(10000)
+_TWO = _digit_table(np.arange(100), 2, "0")
+#: "0000" ... "9999", one uint32 word each.
+_FOUR = _words(np.concatenate([np.repeat(_TWO, 100, axis=0), np.tile(_TWO, (100, 1))],
+                              axis=1)).ravel()
+#: E12.4: the word "   ." or "  -.", then the four digits, then the exponent's word.
+_E_SIGN = _words(np.frombuffer(b"   .  -.", dtype=np.uint8).reshape(2, 4)).ravel()
+_E_EXPONENT = _words(np.frombuffer("".join(_EXPONENT_TEXT).encode(), dtype=np.uint8)
+                     .reshape(199, 4)).ravel()
 _E_SCALES = np.array([10.0 ** (4 - (k - 99)) for k in range(199)])
-_E_EXPONENT = np.array([t.encode() for t in _EXPONENT_TEXT], dtype="S4").view(np.uint8)
-_E_EXPONENT = _E_EXPONENT.reshape(199, 4)
-_DIGITS = np.frombuffer(b"0123456789", dtype=np.uint8)
-#: "0000" ... "9999" as bytes: four digits in one lookup.
-_FOUR = np.frombuffer("".join(f"{i:04d}" for i in range(10000)).encode(), dtype=np.uint8)
-_FOUR = _FOUR.reshape(10000, 4)
+#: F12.1 with t = |x| * 10 truncated = hi * 10**4 + lo.  _F_LOW[s * 10**4 + lo]: the
+#: whole field of a value below 1000 (s = 1 negative): the digits of lo // 10 right-justified
+#: (the sign before them), the point and one decimal.
+_F_LOW = np.full((2, 1000, 10, 12), ord(" "), dtype=np.uint8)
+_F_LOW[..., :10] = _signed(np.arange(1000), 10)[:, :, None, :]
+_F_LOW[..., 10] = ord(".")
+_F_LOW[..., 11] = np.arange(ord("0"), ord("9") + 1, dtype=np.uint8)
+_F_LOW = _words(_F_LOW.reshape(20000, 12))
 
 
-def _edit_e(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
-    """E12.4 by the printer's first tier: (bytes (n, w), where it applies)."""
+@functools.cache
+def _f_high() -> tuple[np.ndarray, np.ndarray]:
+    """Past 1000 (made when first needed): (_F_HIGH[s * 10**4 + hi], the digits of hi with
+    the sign before them, bytes 0-6; _F_LOW_DIGITS[lo], three digits, the point, one
+    decimal, bytes 7-11), each zero where the other is not: their sum is the field."""
+    high = np.zeros((20000, 12), dtype=np.uint8)
+    high[:, :7] = _signed(_DIGITS4, 7).reshape(20000, 7)
+    low = np.zeros((10000, 12), dtype=np.uint8)
+    low[:, 7:10] = _digit_table(_DIGITS4 // 10, 3, "0")
+    low[:, 10] = ord(".")
+    low[:, 11] = _DIGITS4 % 10 + ord("0")
+    return _words(high), _words(low)
+
+
+def _edit_e(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """E12.4 by the printer's first tier: (words (n, 3), where it applies)."""
     a = np.abs(x)
     ok = (a >= 1e-99) & (a < 1e98)
-    with np.errstate(all="ignore"):
-        k = np.where(ok, np.floor(np.log10(np.where(ok, a, 1.0))), 0).astype(np.int64) + 100
-    k = np.clip(k, 0, 198)
-    scaled = a * _E_SCALES[k]
-    t = np.where(ok, scaled, 0.0).astype(np.int64)
-    frac = scaled - t
-    ok &= (t >= 1000) & (t <= 9999) & (frac > 1e-7) & (frac < 0.9999999)
-    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
-    out[:, w - 10] = np.where(x < 0.0, ord("-"), ord(" "))
-    out[:, w - 9] = ord(".")
-    out[:, w - 8:w - 4] = _FOUR[np.where(ok, t, 0)]
-    out[:, w - 4:] = _E_EXPONENT[k]
     zero = a == 0.0  # the 1410's zero: .0000E-99 (the printer's first tier too)
-    out[zero, w - 10] = ord(" ")
-    out[zero, w - 8:w - 4] = ord("0")
-    out[zero, w - 4:] = _E_EXPONENT[0]
+    with np.errstate(all="ignore"):  # NaN, inf where not ok: not used
+        k = np.where(ok, np.floor(np.log10(a)) + 100.0, 0.0).astype(np.intp)
+    # k: exponent + 99 (0: the zero's, E-99); t and the rest, as the printer's int()
+    frac, whole = np.modf(a * _E_SCALES[k])
+    ok &= (whole >= 1000.0) & (whole <= 9999.0) & (frac > 1e-7) & (frac < 0.9999999)
+    out = np.empty((x.size, 3), dtype=np.uint32)
+    out[:, 0] = np.where(x < 0.0, _E_SIGN[1], _E_SIGN[0])
+    out[:, 1] = _FOUR[np.where(ok, whole, 0.0).astype(np.intp)]
+    out[:, 2] = _E_EXPONENT[k]
     return out, ok | zero
 
 
-def _edit_f(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
-    """F12.1 by the printer's first tier: (bytes (n, w), where it applies)."""
+def _edit_f(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """F12.1 by the printer's first tier: (words (n, 3), where it applies)."""
     a = np.abs(x)
     ok = (a > 0.0) & (a < 1e7)
-    scaled = np.where(ok, a, 0.0) * 10.0
+    scaled = np.where(ok, a, 0.0) * 10.0  # NaN and inf out before the cast
     t = scaled.astype(np.int64)
     frac = scaled - t
     ok &= (frac > 1e-6) & (frac < 0.999999)
-    out = np.full((x.size, w), ord(" "), dtype=np.uint8)
-    out[:, w - 1] = _DIGITS[t % 10]
-    out[:, w - 2] = ord(".")
-    q = t // 10  # below 1E6: at most 6 digits before the point, no leading zero
-    out[:, w - 9:w - 5] = _FOUR[q // 10000 % 10000]
-    out[:, w - 5:w - 2] = _FOUR[q % 10000][:, 1:]
-    width = np.zeros(x.size, dtype=np.int64)
-    for j in range(7):
-        width += q >= 10 ** j
-    blank = np.arange(w - 9, w - 2)[None, :] < (w - 2 - width)[:, None]
-    out[:, w - 9:w - 2] = np.where(blank, np.uint8(32), out[:, w - 9:w - 2])
-    minus = np.flatnonzero(x < 0.0)
-    out[minus, w - 3 - width[minus]] = ord("-")
+    t = np.where(ok, t, 0)  # below 10**8: hi and lo below 10**4
+    negative = np.where(x < 0.0, 10000, 0)
+    hi, lo = np.divmod(t, 10000)
+    out = _F_LOW[lo + negative]
+    big = np.flatnonzero(hi)
+    if big.size:  # |x| >= 1000
+        high, low = _f_high()
+        out[big] = high[hi[big] + negative[big]] + low[lo[big]]
     return out, ok
 
 
@@ -406,23 +454,34 @@ class _Listing:
     """Sheets of one deck through the vectorised path, handing special ones back."""
 
     def __init__(self, deck, emit: Callable[[str], None], notice, kinematics_only: bool,
-                 tex: float, writer_factory) -> None:
+                 tex: float, writer_factory,
+                 emit_bytes: Callable[[memoryview], None] | None = None) -> None:
         self.deck, self.emit, self.notice = deck, emit, notice
-        self.emit_bytes = lambda data: emit(data.decode("ascii"))
+        self.emit_page = ((lambda rows: emit(str(rows.data, "ascii"))) if emit_bytes is None
+                          else (lambda rows: emit_bytes(rows.data)))
         self.kinematics_only, self.tex = kinematics_only, tex
         self.writer_factory = writer_factory
         text, self.fields = _layout(kinematics_only)
-        self.template = np.frombuffer(text.encode("ascii"), dtype=np.uint8)
+        assert all(w == 12 for _o, _k, w, _d in self.fields)
+        # one page of CHUNK sheets, reused: each block rewrites every field's 12 bytes
+        template = np.frombuffer(text.encode("ascii"), dtype=np.uint8)
+        self.page = np.tile(template, (CHUNK, 1))
         groups = KINEMATIC_FIELDS if kinematics_only else SHEET_FIELDS
         self.names = [n for g in groups for n in g]
-        self.by_kind = {}  # kind -> (page columns, field offsets, names), all 12 wide
+        # kind -> (field offsets, names, runs); a run is fields of one kind side by side on
+        # a line, [first field, count, page offset]: one slice assignment each
+        self.by_kind = {}
         for kind in "EF":
-            picked = [(off, name) for (off, k, w, _d), name in zip(self.fields, self.names)
+            picked = [(off, name) for (off, k, _w, _d), name in zip(self.fields, self.names)
                       if k == kind]
-            assert all(w == 12 for _o, _k, w, _d in self.fields)
             offsets = [off for off, _ in picked]
-            columns = (np.array(offsets)[:, None] + np.arange(12)).ravel()
-            self.by_kind[kind] = (columns, offsets, [name for _, name in picked])
+            runs: list[list[int]] = []
+            for j, off in enumerate(offsets):
+                if runs and runs[-1][2] + 12 * runs[-1][1] == off:
+                    runs[-1][1] += 1
+                else:
+                    runs.append([j, 1, off])
+            self.by_kind[kind] = (offsets, [name for _, name in picked], runs)
         self.editors = {kind: fast_editor(kind, 12, 4 if kind == "E" else 1, True)
                         for kind in "EF"}
         self.port = Program(Float64(on_error=lambda text: notice("library", text)), notice)
@@ -473,13 +532,14 @@ class _Listing:
         n = ATH2.size
         if first + n - 1 == last:
             bad[-1] = True  # the trailing sheet: the port notices it
-        sheet_len = self.template.size
-        page = np.broadcast_to(self.template, (n, sheet_len)).copy()
-        for kind, (columns, offsets, names) in self.by_kind.items():
+        page = self.page[:n]
+        for kind, (offsets, names, runs) in self.by_kind.items():
             x = np.stack([v[name] for name in names], axis=1).ravel()
             with np.errstate(all="ignore"):
-                text, ok = (_edit_e if kind == "E" else _edit_f)(x, 12)
-            page[:, columns] = text.reshape(n, -1)
+                words, ok = (_edit_e if kind == "E" else _edit_f)(x)
+            text = words.view(np.uint8).reshape(n, 12 * len(names))
+            for j, count, offset in runs:
+                page[:, offset:offset + 12 * count] = text[:, 12 * j:12 * (j + count)]
             ok = ok.reshape(n, len(names))
             for j in np.flatnonzero(~ok.all(axis=0)):
                 rows = np.flatnonzero(~ok[:, j] & ~bad)
@@ -488,23 +548,26 @@ class _Listing:
         start = 0
         for s in np.flatnonzero(bad):
             if s > start:
-                self.emit_bytes(page[start:s].tobytes())
+                self.emit_page(page[start:s])
             self.port_sheet(index, first + int(s))
             start = s + 1
         if start < n:
-            self.emit_bytes(page[start:].tobytes())
+            self.emit_page(page[start:])
 
 
 def vector_run(deck, emit: Callable[[str], None], notice, writer_factory,
                kinematics_only: bool = False, max_sheets: int | None = None,
                progress: Callable[[int], None] | None = None, tex: float = 0.0,
-               counts: list[int] | None = None) -> int:
+               counts: list[int] | None = None,
+               emit_bytes: Callable[[memoryview], None] | None = None) -> int:
     """The listing of ``deck`` in float64 (see the module doc): sheets written through
     ``emit``; ``writer_factory(emit, kinematics_only)`` makes the port's WRITE for the
     sheets handed back.  The deck must pass the crank-rocker test and every range card
     must end (the caller checks both); ``counts``, the sheets of each card, as
-    :func:`plan` gives them.  Raises SheetLimit past ``max_sheets``."""
-    listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory)
+    :func:`plan` gives them.  ``emit_bytes``, if given, takes the blocks' sheets as ASCII
+    bytes in place of ``emit`` (no decoding; it must put them where ``emit``'s text goes,
+    in order).  Raises SheetLimit past ``max_sheets``."""
+    listing = _Listing(deck, emit, notice, kinematics_only, tex, writer_factory, emit_bytes)
     if not float(tex) == float(tex) or abs(float(tex)) >= 1e99:
         raise ValueError("tex must be finite (the caller checks it)")
     total = 0

@@ -95,28 +95,44 @@ How the work is organised
     ``@step`` decorator, the quantities it ``needs`` and ``provides``.  A step
     can also declare ``zero_when``: if all those quantities are identically
     zero (a massless link: W3 = ZI3 = 0), the step's results are zero and it
-    is neither run nor are its needs computed.  ``analyze`` seeds a namespace
-    with the inputs, computes the dependency closure of the requested
-    outputs (:func:`plan`), and runs the steps in dependency order.  Asking
-    for kinematics therefore never touches the force steps.  ``STEP_CALLS``
-    counts the step runs; the resolver looks step functions up in the module
-    at run time, so ``unittest.mock.patch.object(engine, "_force_link4", ...)``
-    intercepts them.
+    is neither run nor are its needs computed.  A :class:`Model` holds the steps
+    and the *effects* a scene may call for (``fourbar.FOURBAR`` is the 1966
+    four-bar; an effect is one module and one registration line there).
+    ``analyze`` checks the request once (:func:`prepare`), seeds a namespace
+    with the inputs and the :class:`Scene`, computes the dependency closure of
+    the requested outputs (:func:`plan`), and runs the steps in dependency
+    order.  Asking for kinematics therefore never touches the force steps.
+    ``STEP_CALLS`` (the default model's ``calls``) counts the step runs; a test
+    that needs a spy or a fault in a step runs ``analyze(..., model=
+    FOURBAR.replacing(_force_link4=spy))``.
 """
 
 from __future__ import annotations
 
 from sielaff.engine import forces
-from sielaff.engine.analysis import AssemblyWarning, Results, analyze, plan
+from sielaff.engine.analysis import AssemblyWarning, Request, Results, analyze, plan, prepare
 from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
+from sielaff.engine.fourbar import FOURBAR, INPUTS, KINEMATIC_OUTPUTS, OUTPUTS
 from sielaff.engine.loads import Load
-from sielaff.engine.outputs import INPUTS, KINEMATIC_OUTPUTS, OUTPUTS, RESULTS, VECTORS
+from sielaff.engine.outputs import RESULTS, VECTORS
 from sielaff.engine.points import point_motion
 from sielaff.engine.positions import reachable
-from sielaff.engine.registry import STEP_CALLS, STEPS, step
+from sielaff.engine.registry import Effect, Model, step
+from sielaff.engine.scene import Scene
 from sielaff.quantities import G
 
+#: How many times each step of the default model has run (by step name); tests reset it.
+STEP_CALLS = FOURBAR.calls
+#: The default model's steps.
+STEPS = FOURBAR.steps
+
 __all__ = [
+    "FOURBAR",
+    "Effect",
+    "Model",
+    "Request",
+    "Scene",
+    "prepare",
     "forces",
     "G",
     "INPUTS",

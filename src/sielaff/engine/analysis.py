@@ -1,38 +1,25 @@
-"""``analyze``: seed the inputs, plan the steps the outputs need, run them, count the
-positions that cannot assemble."""
+"""``analyze``: one path in (check and seed the request), then the numpy steps a block at a
+time or all at once, or the compiled loop; every path counts the positions that cannot
+assemble the same way."""
 
 from __future__ import annotations
 
-import sys
 import warnings
 from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from sielaff.engine.outputs import OUTPUTS, RESULTS
-from sielaff.engine.registry import STEP_CALLS, STEPS, _plan
-from sielaff.mechanism import (
-    EXAMPLE,
-    FIELD_NAMES,
-    MASS_DIVISOR,
-    STANDARD_GRAVITY,
-    Mechanism,
-    validate,
-)
+from sielaff.engine.fourbar import FOURBAR
+from sielaff.engine.registry import Model
+from sielaff.engine.scene import Scene, scene_from
+from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
-__all__ = ["AssemblyWarning", "Results", "analyze", "plan"]
+__all__ = ["AssemblyWarning", "Results", "analyze", "plan", "prepare"]
 
-
-#: Inputs whose being zero can make steps unnecessary (see ``zero_when``).
-#: Every name a step's zero_when uses: when one is an input (seeded) and zero, the steps
-#: that need it alone are skipped.
-_ZERO_CANDIDATES = frozenset(n for s in STEPS for n in s.zero_when) | {"TEX"}
-
-
-def _zero_seeds(ns: dict[str, Any]) -> frozenset[str]:
-    """The seeded inputs that are identically zero (a massless link, no TEX)."""
-    return frozenset(n for n in _ZERO_CANDIDATES if n in ns and not np.any(ns[n]))
+#: A keyword argument not given (``None`` means no gravity, so it cannot mark absence).
+_UNSET: Any = type("Unset", (), {"__repr__": lambda self: "<unset>"})()
 
 
 class AssemblyWarning(UserWarning):
@@ -56,6 +43,40 @@ class Results(dict):
     """
 
     not_assembled: int | None = None
+    #: The unit system of the numbers (the mechanism's) and the crank angles asked for.
+    units: str = "in-lb-sec"
+    ath2: Any = None
+
+    def to_frame(self) -> Any:
+        """The results as a pandas DataFrame (the ``frames`` extra): THETA 2 [deg] as the
+        index, one column per name, each column's unit in ``frame.attrs["units"]`` (and
+        its meaning in ``frame.attrs["descriptions"]``).  One-dimensional results only
+        (one design over crank angles); a sweep's arrays are a ValueError."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Results.to_frame needs pandas: pip install -e "
+                              "\".[frames]\"") from None
+        from sielaff.quantities import describe, unit
+
+        columns = {name: np.asarray(v) for name, v in self.items()}
+        th = np.atleast_1d(np.asarray(self.ath2, dtype=float))
+        for name, v in columns.items():
+            if v.ndim != 1 or v.shape != th.shape:
+                raise ValueError(f"to_frame: {name} has shape {v.shape}; a frame holds one "
+                                 f"design over the crank angles, shape {th.shape}")
+        frame = pd.DataFrame(columns, index=pd.Index(th, name="ATH2"))
+        frame.attrs["units"] = {n: _unit_or_dash(unit, n, self.units) for n in columns}
+        frame.attrs["units"]["ATH2"] = "deg"
+        frame.attrs["descriptions"] = {n: _unit_or_dash(describe, n) for n in columns}
+        return frame
+
+
+def _unit_or_dash(fn: Any, *args: Any) -> str:
+    try:
+        return str(fn(*args))
+    except KeyError:  # a name the catalogue does not describe (an effect's own part)
+        return "-"
 
 
 def _common_shape(named: list[tuple[str, tuple[int, ...]]]) -> tuple[int, ...]:
@@ -88,162 +109,165 @@ def _broadcastable(a: tuple[int, ...], b: tuple[int, ...]) -> bool:
     return True
 
 
-def _check_outputs(outputs: Iterable[str] | str | None) -> tuple[str, ...]:
+def _check_outputs(outputs: Iterable[str] | str | None, model: Model) -> tuple[str, ...]:
     if outputs is None:
-        return RESULTS
+        return model.results
     if isinstance(outputs, str):
         outputs = (outputs,)
     wanted = tuple(dict.fromkeys(outputs))
-    unknown = [n for n in wanted if n not in OUTPUTS]
+    unknown = [n for n in wanted if n not in model.outputs]
     if unknown:
-        raise ValueError(f"unknown output(s) {unknown}; valid names: {', '.join(OUTPUTS)}")
+        raise ValueError(f"unknown output(s) {unknown}; valid names: "
+                         f"{', '.join(model.outputs)}")
     return wanted
 
 
-def _seed(mechanism: Mechanism, ath2: Any, tex: Any, th2dd: Any = 0.0, gravity: Any = None,
-          loads: Any = (), branch: str = "open") -> dict[str, Any]:
-    ns: dict[str, Any] = {}
-    if branch not in ("open", "crossed"):
-        raise ValueError(f"branch = {branch!r}: 'open' (the 1966 program's) or 'crossed'")
-    ns["BRANCH"] = 1.0 if branch == "open" else -1.0
-    for name in FIELD_NAMES:
-        v = np.asarray(getattr(mechanism, name), dtype=float)
-        ns[name] = float(v) if v.ndim == 0 else v
-    ns["ATH2"] = np.atleast_1d(np.asarray(ath2, dtype=float))  # ufuncs keep arrays
-    for name, value in (("TEX", tex), ("TH2DD", th2dd)):
-        if callable(value):
-            ns[name.lower() + "_fn"] = value
-        else:
-            v = np.asarray(value, dtype=float)
-            ns[name] = float(v) if v.ndim == 0 else v
-    ns["GW"] = MASS_DIVISOR[mechanism.units]
-    if gravity is None:
-        ns["GX"] = ns["GY"] = 0.0
-    elif isinstance(gravity, str) and gravity == "down":
-        ns["GX"], ns["GY"] = 0.0, -STANDARD_GRAVITY[mechanism.units]
-    else:
-        try:
-            gx, gy = (float(g) for g in gravity)
-        except (TypeError, ValueError):
-            raise ValueError(f"gravity = {gravity!r}: give None, 'down', or the vector "
-                             "(gx, gy) in the mechanism's length unit per sec^2") from None
-        ns["GX"], ns["GY"] = gx, gy
-    from sielaff.engine.loads import Load
+@dataclass
+class Request:
+    """A checked request, what every backend consumes: the model, the mechanism (checked),
+    the crank angles as given, the Scene (checked when built), the wanted names, and the
+    shape of the answer (``shape``: of every result, ``None`` until known)."""
 
-    loads = tuple(loads)
-    for load in loads:
-        if not isinstance(load, Load):
-            raise ValueError(f"loads: {load!r} is not a sielaff.Load")
-    ns["loads"], ns["NLOADS"] = loads, float(len(loads))
-    return ns
+    model: Model
+    mechanism: Mechanism
+    ath2: Any
+    scene: Scene
+    wanted: tuple[str, ...]
+    shape: tuple[int, ...] | None = None
+
+
+def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None,
+            scene: Scene, model: Model | None = None, *, broadcast: bool = True) -> Request:
+    """The one validation of ``analyze``'s inputs, shared by every backend.
+
+    The mechanism by :func:`~sielaff.mechanism.validate`, the outputs against the model,
+    the Scene (validated when it was built), and, with ``broadcast``, that the crank
+    angles, the fields and the scene's arrays broadcast together (a ValueError naming
+    the two that clash).
+    """
+    model = FOURBAR if model is None else model
+    if not isinstance(model, Model):
+        raise ValueError(f"model = {model!r} is not a sielaff Model")
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene = {scene!r} is not a sielaff.Scene")
+    wanted = _check_outputs(outputs, model)
+    validate(mechanism)
+    req = Request(model, mechanism, ath2, scene, wanted)
+    if broadcast:
+        named = [("ath2", np.shape(ath2))]
+        named += [(n, np.shape(v)) for n, v in mechanism.as_dict().items()]
+        named += [(n, np.shape(v)) for n, v in scene.per_position()]
+        req.shape = _common_shape(named)
+    return req
+
+
+def _scene(scene: Scene | None, **keywords: Any) -> Scene:
+    return scene_from(scene, {k: v for k, v in keywords.items() if v is not _UNSET})
 
 
 def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
-         tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None, loads: Any = (),
-         branch: str = "open") -> list[str]:
+         tex: Any = _UNSET, *, scene: Scene | None = None, th2dd: Any = _UNSET,
+         gravity: Any = _UNSET, loads: Any = _UNSET, branch: Any = _UNSET,
+         model: Model | None = None) -> list[str]:
     """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
-    ns = _seed(EXAMPLE if mechanism is None else mechanism, 0.0, tex, th2dd, gravity, loads,
-               branch)
-    order = _plan(_check_outputs(outputs), frozenset(ns), _zero_seeds(ns))
+    sc = _scene(scene, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads, branch=branch)
+    req = prepare(EXAMPLE if mechanism is None else mechanism, 0.0, outputs, sc, model,
+                  broadcast=False)
+    ns = req.model.seed(req.mechanism, 0.0, sc)
+    order = req.model.plan(req.wanted, frozenset(ns), req.model.zero_seeds(ns))
     return [st.name + ("=0" if skipped else "") for st, skipped, _ in order]
 
 
-def _run(order, ns: dict[str, Any]) -> int | None:
-    """Run the planned steps in ``ns``; the number of positions that cannot assemble
-    (None if no position was solved)."""
-    not_assembled = None
-    for st, skipped, drop in order:
-        if skipped:
-            for name in st.provides:
-                ns[name] = 0.0
-        else:
-            # looked up late, in the step's own module, so tests can patch it there
-            fn = getattr(sys.modules[st.fn.__module__], st.name, st.fn)
-            STEP_CALLS[st.name] += 1
-            result = fn(*[ns[n] for n in st.needs])
-            if len(st.provides) == 1:
-                result = (result,)
-            for name, value in zip(st.provides, result, strict=True):
-                ns[name] = value
-            if "s34" in st.provides:  # where the loop cannot close, s34 is NaN
-                not_assembled = int(np.count_nonzero(np.isnan(ns["s34"])))
-        for name in drop:
-            del ns[name]
-    return not_assembled
-
-
 def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None = None,
-            tex: Any = 0.0, *, th2dd: Any = 0.0, gravity: Any = None,
-            loads: Any = (), branch: str = "open", out: dict | None = None,
-            block: int | None = None, backend: str = "numpy") -> Results:
-    """Analyse ``mechanism`` at crank angles ``ath2`` (degrees).
+            tex: Any = _UNSET, *, scene: Scene | None = None, th2dd: Any = _UNSET,
+            gravity: Any = _UNSET, loads: Any = _UNSET, branch: Any = _UNSET,
+            out: dict[str, np.ndarray] | None = None, block: int | None = None,
+            backend: str = "numpy", model: Model | None = None) -> Results:
+    """Analyse ``mechanism`` at crank angles ``ath2`` [deg] in the scene ``scene``.
 
-    ``out``: arrays to write the results into, ``{name: array}`` (float64, the shape of
-    ``ath2``; the names are the outputs, ``outputs`` is then ignored).  The positions are
-    then analysed :data:`BLOCK` (or ``block``) at a time, small enough for the cache,
-    and no result array is allocated: a caller that reuses its arrays (a table, a plot,
-    a sweep) pays neither for fresh pages nor for the memory of the whole run.  With
-    ``out`` the mechanism, ``gravity`` and ``loads`` must describe one design (scalar
-    fields); ``tex`` and ``th2dd`` may also be arrays of ``ath2``'s shape.
+    Parameters
+    ----------
+    mechanism : Mechanism
+        Geometry, masses and crank speed; any field may be an array (a sweep).
+    ath2 : float or array
+        Crank angles [deg], any shape, any value (400 and 40 are the same position).
+    outputs : names, optional
+        Names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only the steps these
+        depend on are run.
+    scene : Scene, optional
+        What acts on the mechanism (:class:`sielaff.Scene`: TEX, the crank's
+        acceleration, gravity, loads, the branch); the 1966 scene by default.
+    tex, th2dd, gravity, loads, branch
+        The Scene's fields as keywords (the same Scene, bit for bit); giving one of
+        them and ``scene`` is a ValueError naming both.
+    out : dict of arrays, optional
+        Arrays to write the results into, ``{name: array}`` (float64, the shape of
+        ``ath2``; the names are the outputs, ``outputs`` is then ignored).  The
+        positions are then analysed :data:`BLOCK` (or ``block``) at a time, small enough
+        for the cache, and no result array is allocated.  With ``out`` the mechanism
+        describes one design (scalar fields); the scene's arrays (TEX, TH2DD, a load's
+        fields) are of ``ath2``'s shape and sliced per block alike.
+    backend : {"numpy", "numba"}
+        ``"numba"`` runs the compiled loop (``sielaff[fast]``) where it covers the scene.
+    model : Model, optional
+        The model to run (``fourbar.FOURBAR`` by default).
 
-    ``outputs``: names wanted (any of ``OUTPUTS``); None means ``RESULTS``.  Only
-    the steps these depend on are run.  ``tex``: the external torque on link 4
-    (in-lb, + CCW), a constant, an array broadcasting against ``ath2``, or a
-    callable taking ATH4 in degrees.  The effects a scene calls for, each off by
-    default (as in 1966) and then costing nothing:
+    Returns
+    -------
+    Results
+        ``{name: array}`` for the wanted names, every array of the broadcast shape of
+        ``ath2``, the mechanism's fields and the scene's arrays; ``not_assembled`` counts
+        the positions where the loop cannot close (their results are NaN; an
+        :class:`AssemblyWarning` says how many).  TORQ is the total drive torque;
+        ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and ``TORQ_TEX`` are its parts
+        (docs/effects.md).
 
-    * ``th2dd``: the crank's angular acceleration (rad/sec^2, CCW +); TH2D is then
-      the crank speed at each position.  A constant, an array or a function of ATH2.
-    * ``gravity``: None, or (gx, gy) in the length unit per sec^2 in the frame's axes;
-      each link's weight acts at its G.
-    * ``loads``: :class:`sielaff.Load` forces and torques on links 2-4.
-
-    ``branch``: ``"open"`` (the 1966 program's assembly, B above the line A-O4 for the
-    report's example) or ``"crossed"`` (the other).  Any four-bar works; where the loop
-    cannot close the results are NaN (counted), see :func:`reachable`.
-
-    TORQ is the total; ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and
-    ``TORQ_TEX`` are its parts (docs/effects.md).  Returns ``{name: array}`` for the wanted
-    names, every array of the broadcast shape of ``ath2``, the mechanism's
-    fields and ``tex``, as a :class:`Results` whose ``not_assembled`` counts the
-    positions where the loop cannot close (their results are NaN; an
-    :class:`AssemblyWarning` says how many).  Shapes that do not broadcast are a
-    ValueError naming the fields, and so is a mechanism no linkage can have
-    (:func:`sielaff.mechanism.validate`: a missing or non-finite field, a length that
-    is not positive, a negative weight or inertia).
+    Shapes that do not broadcast are a ValueError naming the fields, and so is a
+    mechanism no linkage can have (:func:`sielaff.mechanism.validate`) or a scene value
+    that is not finite (:class:`sielaff.Scene`).
     """
-    if backend != "numpy":
-        return _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads,
-                                 branch, out, backend)
+    sc = _scene(scene, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads, branch=branch)
+    if backend not in ("numpy", "numba"):
+        raise ValueError(f"backend = {backend!r}: 'numpy' or 'numba'")
     if out is not None:
-        return _analyze_into(mechanism, ath2, out, BLOCK if block is None else block, tex,
-                             th2dd, gravity, loads, branch)
-    wanted = _check_outputs(outputs)
-    validate(mechanism)
-    ns = _seed(mechanism, ath2, tex, th2dd, gravity, loads, branch)
+        if backend != "numpy":
+            return _analyze_compiled(prepare(mechanism, ath2, list(out), sc, model), out)
+        return _analyze_into(mechanism, ath2, out, BLOCK if block is None else block, sc,
+                             model)
+    req = prepare(mechanism, ath2, outputs, sc, model)
+    if backend != "numpy":
+        return _analyze_compiled(req, None)
+    return _analyze_numpy(req)
+
+
+def _analyze_numpy(req: Request) -> Results:
+    model, final_shape = req.model, req.shape
+    assert final_shape is not None
+    ns = model.seed(req.mechanism, req.ath2, req.scene)
     seeded = frozenset(ns)
-    named = [("ath2", np.shape(ath2))] + [
-        (n if n != "TEX" else "tex", np.shape(v)) for n, v in ns.items()
-        if n not in ("tex_fn", "th2dd_fn", "ATH2", "loads")]
-    final_shape = _common_shape(named)
     shape = np.broadcast_shapes(ns["ATH2"].shape, final_shape)  # differs only if final is ()
     # Crank angles of the full shape make every derived array full-shaped, so the
     # steps may update arrays in place with mechanism fields of any shape.
     ns["ATH2"] = np.broadcast_to(ns["ATH2"], shape)
-    order = _plan(wanted, seeded, _zero_seeds(ns))
+    order = model.plan(req.wanted, seeded, model.zero_seeds(ns))
     with np.errstate(all="ignore"):  # NaN where the loop cannot close, inf at a toggle
-        not_assembled = _run(order, ns)
+        not_assembled = model.run(order, ns)
     out = Results()
+    out.units, out.ath2 = req.mechanism.units, req.ath2
     if not_assembled is not None:
         out.not_assembled = not_assembled
         if not_assembled:
-            _warn_not_assembled(not_assembled, int(np.prod(shape)), stacklevel=3)
+            _warn_not_assembled(not_assembled, int(np.prod(shape)), stacklevel=4)
     seen: set[int] = set()
-    for name in wanted:
+    mask = ns.get("_not_assembled")
+    for name in req.wanted:
         v = ns[name]
         if (name in seeded or id(v) in seen or not isinstance(v, np.ndarray)
                 or v.shape != shape):
             v = np.array(np.broadcast_to(v, shape), dtype=float)
+        if (mask is not None and v.dtype != bool and name not in seeded
+                and model.needs_assembly(name)):
+            np.copyto(v, np.nan, where=mask)  # a skipped step's 0.0 is no answer there
         seen.add(id(v))
         out[name] = v.reshape(final_shape)
     return out
@@ -255,85 +279,85 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
 BLOCK = 16384
 
 
-def _analyze_into(mechanism, ath2, out, block, tex, th2dd, gravity, loads, branch):
-    """``analyze(..., out=out)``: blocks of ``block`` positions written into ``out``."""
-    if not isinstance(block, int) or block < 1:
-        raise ValueError(f"block = {block!r}: a number of positions, 1 or more")
-    th = np.asarray(ath2, dtype=float)
-    wanted = _check_outputs(list(out))
+def _check_out(out: dict[str, np.ndarray], shape: tuple[int, ...]) -> None:
     for name, array in out.items():
         if not (isinstance(array, np.ndarray) and array.dtype == np.float64
-                and array.shape == th.shape and array.flags.writeable):
+                and array.shape == shape and array.flags.writeable):
             raise ValueError(f"out[{name!r}]: a writeable float64 array of ath2's shape "
-                             f"{th.shape}")
+                             f"{shape}")
+        if not np.shares_memory(array.reshape(-1), array):  # a copy would not be written
+            raise ValueError(f"out[{name!r}] must be contiguous (it is written in place)")
+
+
+def _analyze_into(mechanism: Mechanism, ath2: Any, out: dict[str, np.ndarray], block: Any,
+                  scene: Scene, model: Model | None) -> Results:
+    """``analyze(..., out=out)``: blocks of ``block`` positions written into ``out``."""
+    if isinstance(block, bool) or not isinstance(block, int) or block < 1:
+        raise ValueError(f"block = {block!r}: a number of positions, 1 or more")
+    th = np.asarray(ath2, dtype=float)
+    req = prepare(mechanism, th, list(out), scene, model, broadcast=False)
+    _check_out(out, th.shape)
     for name, v in mechanism.as_dict().items():
         if np.ndim(v):
             raise ValueError(f"out= analyses one design: {name} is an array (shape "
                              f"{np.shape(v)})")
     flat_th = th.reshape(-1)
     n = flat_th.size
-
-    def part(v, i, j):
-        if callable(v) or np.ndim(v) == 0:
-            return v
-        a = np.asarray(v, dtype=float)
-        if a.shape != th.shape:
-            raise ValueError(f"with out=, tex and th2dd are scalars, callables or arrays "
-                             f"of ath2's shape {th.shape}, not {a.shape}")
-        return a.reshape(-1)[i:j]
-
-    flat = {name: out[name].reshape(-1) for name in wanted}
-    for name, array in flat.items():
-        if not np.shares_memory(array, out[name]):
-            raise ValueError(f"out[{name!r}] must be contiguous (it is written in place)")
-    # One design: checked, seeded and planned once; each block only brings its angles
-    # (and its share of an array TEX or TH2DD), so a block costs its arithmetic alone.
-    validate(mechanism)
-    varying = [name for name, v in (("TEX", tex), ("TH2DD", th2dd))
-               if not callable(v) and np.ndim(v)]
-    base = _seed(mechanism, flat_th[:1], 0.0 if "TEX" in varying else tex,
-                 th2dd=0.0 if "TH2DD" in varying else th2dd, gravity=gravity, loads=loads,
-                 branch=branch)
+    varying = scene.per_position()
+    scene.block(0, 0, th.shape)  # every per-position array of ath2's shape, or refused
+    flat = {name: out[name].reshape(-1) for name in req.wanted}
+    # One design: seeded and planned once when nothing varies along the angles; each block
+    # then brings only its angles, so a block costs its arithmetic alone.
+    m = req.model
+    base = m.seed(mechanism, flat_th[:1], scene)
     seeded = frozenset(base)
-    order = None if varying else _plan(wanted, seeded, _zero_seeds(base))
+    order = None if varying else m.plan(req.wanted, seeded, m.zero_seeds(base))
     missing: int | None = 0
     for i in range(0, n, block):
         j = min(i + block, n)
-        ns = dict(base)
-        ns["ATH2"] = flat_th[i:j]
-        for name in varying:
-            ns[name] = part(tex if name == "TEX" else th2dd, i, j)
-        plan = order or _plan(wanted, seeded, _zero_seeds(ns))
+        if varying:
+            ns = m.seed(mechanism, flat_th[i:j], scene.block(i, j, th.shape))
+        else:
+            ns = dict(base)
+            ns["ATH2"] = flat_th[i:j]
+        plan_ = order or m.plan(req.wanted, seeded, m.zero_seeds(ns))
         with np.errstate(all="ignore"):
-            count = _run(plan, ns)
+            count = m.run(plan_, ns)
         missing = None if count is None else (missing or 0) + count
-        for name in wanted:
+        mask = ns.get("_not_assembled")
+        for name in req.wanted:
             flat[name][i:j] = ns[name]
-    result = Results((name, out[name]) for name in wanted)
+            if (mask is not None and name not in seeded and m.needs_assembly(name)
+                    and flat[name].dtype != bool):
+                np.copyto(flat[name][i:j], np.nan, where=mask)
+    result = Results((name, out[name]) for name in req.wanted)
     result.not_assembled = missing
+    result.units, result.ath2 = mechanism.units, th
     if missing:
         _warn_not_assembled(missing, n, stacklevel=4)
     return result
 
 
-def _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads, branch, out,
-                      backend):
+def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Results:
     """``analyze(..., backend="numba")`` (see analyze)."""
-    if backend != "numba":
-        raise ValueError(f"backend = {backend!r}: 'numpy' or 'numba'")
     from sielaff.engine.compiled import compiled_results
 
-    validate(mechanism)
-    wanted = _check_outputs(list(out) if out is not None else outputs)
-    missing = [n for n in wanted if n not in RESULTS]
+    model = req.model
+    missing = [n for n in req.wanted if n not in model.results]
     if missing:
         raise ValueError(f"backend='numba' gives the RESULTS names, not {missing}")
-    th = np.asarray(ath2, dtype=float)
-    table = compiled_results(mechanism, th, tex, th2dd=th2dd, gravity=gravity, loads=loads,
-                             branch=branch)
-    index = {name: i for i, name in enumerate(RESULTS)}
+    if model is not FOURBAR:
+        raise ValueError(f"backend='numba' compiles the four-bar model, not {model.name}")
+    th = np.asarray(req.ath2, dtype=float)
+    if out is not None:
+        _check_out(out, th.shape)
+    sc = req.scene
+    table = compiled_results(req.mechanism, th, sc.tex, th2dd=sc.th2dd, gravity=sc.gravity,
+                             loads=sc.loads, branch=sc.branch)
+    index = {name: i for i, name in enumerate(model.results)}
     result = Results()
-    for name in wanted:
+    result.units, result.ath2 = req.mechanism.units, th
+    for name in req.wanted:
         row = table[index[name]].reshape(th.shape)
         if out is not None:
             out[name][...] = row
@@ -343,3 +367,4 @@ def _analyze_compiled(mechanism, ath2, outputs, tex, th2dd, gravity, loads, bran
     if result.not_assembled:  # RESULTS only here: no ASSEMBLED output to point to
         _warn_not_assembled(result.not_assembled, th.size, stacklevel=4, mask=False)
     return result
+

@@ -67,30 +67,36 @@ def linkage_class(m: Mechanism) -> LinkageClass:
     kind = np.where(change, "change-point",
                     np.where(margin > 0, grashof_kind, "triple-rocker")).astype(object)
     # toggles of the input: cos th2 where |O4 - A| reaches R3 + R4 or |R3 - R4|
-    toggles = []
+    ends: list[np.ndarray] = []
     with np.errstate(all="ignore"):
         for d in (R3 + R4, np.abs(R3 - R4)):
             c = (R1 * R1 + R2 * R2 - d * d) / (2.0 * R1 * R2)
             inside = np.abs(c) < 1.0
             a = np.degrees(np.arccos(np.where(inside, c, np.nan)))
-            toggles += [a, np.where(inside, 360.0 - a, np.nan)]
-    toggles = np.sort(np.stack(toggles, axis=-1), axis=-1)  # NaN last
-    # no toggle: the loop closes everywhere or nowhere; THETA 2 = 0 (|O4 - A| = |R1 - R2|)
-    closes_at_0 = (np.abs(R3 - R4) <= np.abs(R1 - R2)) & (np.abs(R1 - R2) <= R3 + R4)
-    turns = ~np.any(np.isfinite(toggles), axis=-1) & closes_at_0
-    arcs = None
+            ends += [a, np.where(inside, 360.0 - a, np.nan)]
+    toggles = np.sort(np.stack(ends, axis=-1), axis=-1)  # NaN last
+    # no toggle inside: the loop closes everywhere or nowhere but where |O4 - A| touches
+    # R3 + R4 or |R3 - R4| at 0 or 180 (a tangency): both THETA 2 = 0 (|O4 - A| = |R1 - R2|)
+    # and 180 (R1 + R2) must close
+    closes = (_closes(np.abs(R1 - R2), R3, R4) & _closes(R1 + R2, R3, R4))
+    turns = ~np.any(np.isfinite(toggles), axis=-1) & closes
     if np.ndim(kind) == 0:
-        kind, turns = str(kind), bool(turns)
-        sl, margin = float(sl), float(margin)
-        arcs = _arcs(*(float(x) for x in (R1, R2, R3, R4)), toggles)
-    return LinkageClass(kind, sl, margin, toggles, turns, arcs)
+        return LinkageClass(str(kind), float(sl), float(margin), toggles, bool(turns),
+                            _arcs(float(R1), float(R2), float(R3), float(R4), toggles))
+    return LinkageClass(kind, sl, margin, toggles, turns, None)
+
+
+def _closes(d, R3, R4):
+    """Whether a triangle of sides d (= |O4 - A|), R3 and R4 exists."""
+    return (np.abs(R3 - R4) <= d) & (d <= R3 + R4)
 
 
 def _arcs(R1, R2, R3, R4, toggles) -> list[tuple[float, float]]:
     """The arcs between consecutive toggles whose middle assembles (see the module doc)."""
     t = [float(x) for x in toggles if np.isfinite(x)]
     if not t:  # everywhere or nowhere
-        return [(0.0, 360.0)] if abs(R3 - R4) <= abs(R1 - R2) <= R3 + R4 else []
+        whole = _closes(abs(R1 - R2), R3, R4) and _closes(R1 + R2, R3, R4)
+        return [(0.0, 360.0)] if whole else []
     out = []
     for a, b in zip(t, t[1:] + t[:1]):
         mid = np.radians(a + ((b - a) % 360.0) / 2.0)

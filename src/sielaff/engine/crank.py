@@ -5,21 +5,23 @@ accelerations of links 3 and 4 gain ``K3 TH2DD`` and ``K4 TH2DD`` (K3 = TH3D/TH2
 K4 = TH4D/TH2D, the velocity ratios, from the velocity equations at TH2D = 1), A and
 G2 gain their tangential accelerations, and the crank its inertia torque -ZI2 TH2DD.
 Every step here is skipped when TH2DD is zero (``zero_when``), and the totals then keep
-the constant-speed results bit for bit (``statics.plus``).
+the constant-speed results bit for bit (``statics.plus``).  ``Scene(th2dd=...)`` turns it
+on; its part of TORQ (the crank's own inertia) stays in ``TORQ_INERTIA``.
 """
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Any
 
-from sielaff.engine.registry import step
+from sielaff.engine.registry import Effect, step, step_of
+from sielaff.engine.values import call_checked
 from sielaff.engine.velocities import _angular_velocities
 
 
 @step(provides=("TH2DD",), needs=("th2dd_fn", "ATH2"))
 def _crank_acceleration(th2dd_fn, ATH2):
     """TH2DD = f(ATH2 in degrees), when the caller gives a function."""
-    return np.array(th2dd_fn(ATH2), dtype=float)
+    return call_checked("Scene.th2dd", th2dd_fn, ATH2)
 
 
 @step(provides=("th3dd_a", "th4dd_a"),
@@ -49,3 +51,14 @@ def _crank_inertia_torque(ZI2, TH2DD, RG2, cd2, sd2, FG2X, FG2Y):
     """The drive's share for the crank's own inertia: -(rG2 x FG2) + ZI2 TH2DD (at constant
     speed FG2 is radial and this is zero, as the 1966 program assumes)."""
     return ZI2 * TH2DD - RG2 * (cd2 * FG2Y - sd2 * FG2X)
+
+
+def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
+    v = scene.th2dd
+    return {"th2dd_fn": v} if callable(v) else {"TH2DD": v}
+
+
+EFFECT = Effect("crank acceleration",
+                tuple(step_of(f) for f in (_crank_acceleration, _angular_acc_crank, _acc_A_crank,
+                                           _acc_G2_crank, _crank_inertia_torque)),
+                _seed, parts={"torq": "torq_c"})

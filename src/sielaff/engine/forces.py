@@ -1,22 +1,16 @@
 """Forces: the pin forces, the driving torque and the shaking force and moment.
 
 Each link's inertia is taken alone and the three solutions added (superposition, as the
-listing); see the package doc, "Forces", for the moment equations solved.  Forces in lb
+listing); see the package doc, "Forces", for the moment equations solved.  The totals
+add ``fa32x_e``.. ``torq_e``, the sums of what the scene's effects add (the model derives
+the step that sums them from the registered effects).  Forces in lb
 (which body each acts on: docs/conventions.md), torques in in-lb, CCW +.
 """
 
 from __future__ import annotations
 
-import numpy as np
-
 from sielaff.engine.registry import step
-from sielaff.engine.statics import pins, plus
-
-
-@step(provides=("TEX",), needs=("tex_fn", "ATH4"))
-def _external_torque(tex_fn, ATH4):
-    """TEX = f(ATH4 in degrees), the report's statement 74 option."""
-    return np.array(tex_fn(ATH4), dtype=float)  # a copy: never alias the caller's arrays
+from sielaff.engine.statics import plus
 
 
 @step(
@@ -80,25 +74,6 @@ def _force_link2(FG2X, FG2Y):
     return FG2X, FG2Y
 
 
-#: What gravity, the loads and the crank's inertia torque each add (all zero: no effect).
-_EFFECT_PARTS = ("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
-                 "foby_g", "TORQ_GRAVITY", "fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l",
-                 "foax_l", "foay_l", "fobx_l", "foby_l", "TORQ_LOADS", "torq_c")
-
-
-@step(provides=("fa32x_e", "fa32y_e", "fb34x_e", "fb34y_e", "foax_e", "foay_e", "fobx_e",
-                "foby_e", "torq_e"), needs=_EFFECT_PARTS, zero_when=_EFFECT_PARTS)
-def _effects(fa32x_g, fa32y_g, fb34x_g, fb34y_g, foax_g, foay_g, fobx_g, foby_g, TORQ_GRAVITY,
-             fa32x_l, fa32y_l, fb34x_l, fb34y_l, foax_l, foay_l, fobx_l, foby_l, TORQ_LOADS,
-             torq_c):
-    """What gravity, external loads and the crank's own inertia torque add (superposed)."""
-    g = (fa32x_g, fa32y_g, fb34x_g, fb34y_g, foax_g, foay_g, fobx_g, foby_g, TORQ_GRAVITY)
-    ld = (fa32x_l, fa32y_l, fb34x_l, fb34y_l, foax_l, foay_l, fobx_l, foby_l, TORQ_LOADS)
-    out = [plus(a, b) for a, b in zip(g, ld)]
-    out[8] = plus(out[8], torq_c)
-    return tuple(out)
-
-
 @step(provides=("FA32X", "FA32Y"), needs=("FP32X", "FP32Y", "FPP32X", "FPP32Y", "fa32x_e",
                                           "fa32y_e"))
 def _total_FA32(FP32X, FP32Y, FPP32X, FPP32Y, fa32x_e, fa32y_e):
@@ -126,21 +101,6 @@ def _total_FOA(FP21X, FP21Y, FPP21X, FPP21Y, F3P21X, F3P21Y, foax_e, foay_e):
                                         "foby_e"))
 def _total_FOB(FP41X, FP41Y, FPP41X, FPP41Y, fobx_e, foby_e):
     return plus(FP41X + FPP41X, fobx_e), plus(FP41Y + FPP41Y, foby_e)
-
-
-@step(provides=("TORQ_TEX",), needs=("TEX", "R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4",
-                                     "s4", "s34"), zero_when=("TEX",))
-def _torque_for_tex(TEX, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    """The drive torque TEX alone takes (part of TORQ, for the breakdown)."""
-    return pins(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, TEX, R2, R3, R4, c2, s2, c3, s3, c4,
-                s4, s34)[8]
-
-
-@step(provides=("TORQ_INERTIA",), needs=("TORQ", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX"))
-def _torque_for_inertia(TORQ, TORQ_GRAVITY, TORQ_LOADS, TORQ_TEX):
-    """TORQ less what gravity, the loads and TEX take: the links' inertia (the 1966 TORQ
-    when TEX = 0)."""
-    return TORQ - TORQ_GRAVITY - TORQ_LOADS - TORQ_TEX
 
 
 @step(provides=("SHAKX", "SHAKY"), needs=("FOAX", "FOAY", "FOBX", "FOBY"))

@@ -1,13 +1,17 @@
 """Gravity: each link's weight at its centre of mass, and the pin forces and drive torque
-it takes.  ``gravity=(gx, gy)`` is the acceleration of gravity in the frame's axes, in
-the mechanism's length unit per sec^2 (``(0.0, -386.088)`` for y up in the report's
+it takes.  ``Scene(gravity=(gx, gy))`` is the acceleration of gravity in the frame's axes,
+in the mechanism's length unit per sec^2 (``(0.0, -386.088)`` for y up in the report's
 in-lb-sec system, ``(0.0, -9.80665)`` in SI; ``"down"`` is standard gravity along -y in
-the mechanism's units); off (None) as in 1966, and then no step here runs."""
+the mechanism's units); off (None) as in 1966, and then no step here runs.  Its part of
+TORQ is ``TORQ_GRAVITY``."""
 
 from __future__ import annotations
 
-from sielaff.engine.registry import step
+from typing import Any
+
+from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
+from sielaff.mechanism import STANDARD_GRAVITY
 
 
 @step(provides=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
@@ -17,8 +21,25 @@ from sielaff.engine.statics import pins
       zero_when=("GX", "GY"))
 def _gravity(GX, GY, GW, W2, W3, W4, RG2, RG3, RG4, cd2, sd2, cd3, sd3, cd4, sd4,
              R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    loads = []
+    per_link = []
     for W, RG, cd, sd in ((W2, RG2, cd2, sd2), (W3, RG3, cd3, sd3), (W4, RG4, cd4, sd4)):
         fx, fy = W / GW * GX, W / GW * GY  # the weight m g, with m = W / GW
-        loads += [fx, fy, RG * (cd * fy - sd * fx)]  # and its moment about the base pin
-    return pins(*loads, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34)
+        per_link.append((fx, fy, RG * (cd * fy - sd * fx)))  # and its moment about the pin
+    (f2x, f2y, m2), (f3x, f3y, m3), (f4x, f4y, m4) = per_link
+    return pins(f2x, f2y, m2, f3x, f3y, m3, f4x, f4y, m4, R2, R3, R4, c2, s2, c3, s3, c4, s4,
+                s34)
+
+
+def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
+    g = scene.gravity
+    if g is None:
+        return {"GX": 0.0, "GY": 0.0}
+    if isinstance(g, str):  # "down": standard gravity along -y
+        return {"GX": 0.0, "GY": -STANDARD_GRAVITY[mechanism.units]}
+    return {"GX": g[0], "GY": g[1]}
+
+
+EFFECT = Effect("gravity", (step_of(_gravity),), _seed,
+                parts={s: s + "_g" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
+                                             "foay", "fobx", "foby")} | {"torq": "TORQ_GRAVITY"},
+                torque="TORQ_GRAVITY")

@@ -4,8 +4,9 @@
 at the point ``r`` from the link's base pin (O2, A, O4) at ``angle`` degrees CCW from
 the link's line; ``torque`` is a pure torque on the link, CCW +.  Each of r, angle, fx,
 fy and torque may be a constant, an array that broadcasts with the crank angles, or a
-function of THETA 2 in degrees.  ``analyze(..., loads=[...])`` sums them per link and
-solves the pin forces and drive torque they take (``statics.pins``).
+function of THETA 2 in degrees.  ``Scene(loads=[...])`` sums them per link and solves
+the pin forces and drive torque they take (``statics.pins``): the effect's part
+``TORQ_LOADS`` of TORQ.
 """
 
 from __future__ import annotations
@@ -15,13 +16,28 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.engine.registry import step
+from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
+from sielaff.engine.values import call_checked, check_value
 
 
 @dataclass(frozen=True)
 class Load:
-    """A force and a torque on one moving link (see the module doc)."""
+    """A force and a torque on one moving link (see the module doc).
+
+    Parameters
+    ----------
+    link : {2, 3, 4}
+        The link it acts on.
+    r : float, array or callable
+        Distance of the point of application from the link's base pin [in or m].
+    angle : float, array or callable
+        Angle of that point from the link's line [deg], CCW +.
+    fx, fy : float, array or callable
+        The force in the frame's axes [lb or N].
+    torque : float, array or callable
+        A pure torque on the link [in-lb or N m], CCW +.
+    """
 
     link: int
     r: Any = 0.0
@@ -31,12 +47,20 @@ class Load:
     torque: Any = 0.0
 
     def __post_init__(self) -> None:
-        if self.link not in (2, 3, 4):
+        if isinstance(self.link, bool) or self.link not in (2, 3, 4):
             raise ValueError(f"Load.link = {self.link!r}: loads act on link 2, 3 or 4")
+        for name in ("r", "angle", "fx", "fy", "torque"):
+            v = getattr(self, name)
+            if not callable(v):
+                object.__setattr__(self, name, check_value(f"Load.{name}", v))
 
-    def value(self, name: str, ath2):
+    def value(self, name: str, ath2: Any) -> Any:
+        """The field ``name`` at crank angles ``ath2`` [deg] (a callable is called, and
+        its answer checked where the angle is a number)."""
         v = getattr(self, name)
-        return np.asarray(v(ath2) if callable(v) else v, dtype=float)
+        if not callable(v):
+            return np.asarray(v, dtype=float)
+        return call_checked(f"Load.{name}", v, ath2)
 
 
 @step(provides=("fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l", "foax_l", "foay_l", "fobx_l",
@@ -46,7 +70,8 @@ class Load:
       zero_when=("NLOADS",))
 def _loads(loads, NLOADS, ATH2, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
     lines = {2: (c2, s2), 3: (c3, s3), 4: (c4, s4)}
-    per_link = {2: [0.0, 0.0, 0.0], 3: [0.0, 0.0, 0.0], 4: [0.0, 0.0, 0.0]}
+    per_link: dict[int, list[Any]] = {2: [0.0, 0.0, 0.0], 3: [0.0, 0.0, 0.0],
+                                      4: [0.0, 0.0, 0.0]}
     for load in loads:
         c, s = lines[load.link]
         r, fx, fy = load.value("r", ATH2), load.value("fx", ATH2), load.value("fy", ATH2)
@@ -57,5 +82,16 @@ def _loads(loads, NLOADS, ATH2, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
         f[0] = f[0] + fx
         f[1] = f[1] + fy
         f[2] = f[2] + (px * fy - py * fx) + load.value("torque", ATH2)
-    return pins(*per_link[2], *per_link[3], *per_link[4], R2, R3, R4, c2, s2, c3, s3, c4, s4,
+    (f2x, f2y, m2), (f3x, f3y, m3), (f4x, f4y, m4) = per_link[2], per_link[3], per_link[4]
+    return pins(f2x, f2y, m2, f3x, f3y, m3, f4x, f4y, m4, R2, R3, R4, c2, s2, c3, s3, c4, s4,
                 s34)
+
+
+def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
+    return {"loads": scene.loads, "NLOADS": float(len(scene.loads))}
+
+
+EFFECT = Effect("loads", (step_of(_loads),), _seed,
+                parts={s: s + "_l" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
+                                             "foay", "fobx", "foby")} | {"torq": "TORQ_LOADS"},
+                torque="TORQ_LOADS")

@@ -1,24 +1,13 @@
-"""The outputs: each vector as magnitude and direction, and the catalogue of names
-(``RESULTS`` in the listing's order, every accepted name in ``OUTPUTS``, the force-free
-``KINEMATIC_OUTPUTS``)."""
+"""The outputs: each vector as magnitude and direction (``VECTOR_STEPS``), and the
+listing's print order (``RESULTS``).  Which names a model accepts (``OUTPUTS``) and which
+need no force analysis (``KINEMATIC_OUTPUTS``) the model derives (``fourbar``)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from sielaff.engine import (  # noqa: F401 (each registers its steps)
-    accelerations,
-    crank,
-    forces,
-    gravity,
-    inertia,
-    loads,
-    positions,
-    velocities,
-)
 from sielaff.engine.positions import _DEGREES
-from sielaff.engine.registry import PROVIDER, Step, _depends_on, _register
-from sielaff.mechanism import FIELD_NAMES
+from sielaff.engine.registry import Step
 
 #: Vectors reported as magnitude NAME and direction DNAME (degrees in [0, 360)).
 VECTORS = ("VG2", "VA", "VG3", "VB", "VG4", "AG2", "AA", "AG3", "AB", "AG4",
@@ -32,8 +21,11 @@ def _magnitude(x, y):
 
 
 def _direction(x, y):
-    """Direction of (x, y) in degrees, in [0, 360); 0 for the zero vector (as VECTOR)."""
-    d = np.asarray(np.arctan2(y, x))
+    """Direction of (x, y) in degrees, in [0, 360); 0 for the zero vector (as VECTOR).
+
+    ``+ 0.0`` turns a -0.0 component into +0.0 (and nothing else): arctan2 of signed zeros
+    is +-180 or -0, not the 0 a zero vector points at."""
+    d = np.asarray(np.arctan2(y + 0.0, x + 0.0))
     d *= _DEGREES  # = np.degrees, in place
     np.add(d, 360.0, out=d, where=d < 0.0)
     np.copyto(d, 0.0, where=d >= 360.0)  # -tiny + 360 rounds to 360
@@ -67,23 +59,23 @@ def _rotating_direction(r, line, w, adel=0.0):
     return d
 
 
-for _name in VECTORS:
-    _xy = (_name + "X", _name + "Y")
-    if _name in ROTATING:
-        _r, _line, _adel, _w = ROTATING[_name]
-        _register(Step(f"_magnitude_{_name}", _rotating_magnitude, (_name,), (_r, _w)))
-        _register(Step(f"_direction_{_name}", _rotating_direction, ("D" + _name,),
-                       (_r, _line, _w) + ((_adel,) if _adel else ())))
-        continue
-    _register(Step(f"_magnitude_{_name}", _magnitude, (_name,), _xy))
-    _register(Step(f"_direction_{_name}", _direction, ("D" + _name,), _xy))
+def _vector_steps() -> tuple[Step, ...]:
+    steps = []
+    for name in VECTORS:
+        xy = (name + "X", name + "Y")
+        if name in ROTATING:
+            r, line, adel, w = ROTATING[name]
+            steps.append(Step(f"_magnitude_{name}", _rotating_magnitude, (name,), (r, w)))
+            steps.append(Step(f"_direction_{name}", _rotating_direction, ("D" + name,),
+                              (r, line, w) + ((adel,) if adel else ())))
+        else:
+            steps.append(Step(f"_magnitude_{name}", _magnitude, (name,), xy))
+            steps.append(Step(f"_direction_{name}", _direction, ("D" + name,), xy))
+    return tuple(steps)
 
 
-del _name, _xy, _r, _line, _adel, _w
-
-
-#: Inputs seeded into the namespace (plus ``TEX`` or ``tex_fn``, ``TH2DD`` or ``th2dd_fn``).
-INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS")
+#: Each vector's magnitude NAME and direction DNAME.
+VECTOR_STEPS = _vector_steps()
 
 
 #: What ``analyze`` returns by default (``outputs=None``), in the listing's print
@@ -93,18 +85,4 @@ RESULTS = (
     ("ATH2", "ATH3", "ATH4", "GAMMA", "TH3D", "TH4D", "TH3DD", "TH4DD", "TEX")
     + tuple(n for v in VECTORS for n in (v, "D" + v, v + "X", v + "Y"))
     + ("TORQ", "SHAKM")
-)
-
-
-#: Every name ``analyze`` accepts: RESULTS plus the listing's intermediate
-#: quantities (inertia loads FG2X.., TI3, TI4, superposition parts FP34X..,
-#: FPP32X.., F3P21X, TP2, TPP2).
-OUTPUTS = RESULTS + tuple(sorted(n for n in PROVIDER if n[0].isupper() and n not in RESULTS))
-
-
-#: The results that need no masses, inertias or TEX: no force analysis.
-KINEMATIC_OUTPUTS = tuple(
-    n for n in RESULTS
-    if n != "TEX" and not _depends_on(n, frozenset(("W2", "W3", "W4", "ZI2", "ZI3", "ZI4",
-                                                     "TEX", "tex_fn")))
 )

@@ -16,12 +16,19 @@ _EPS = np.finfo(float).eps
 
 _DEGREES = 180.0 / np.pi  # what np.degrees multiplies by
 
+#: A linear factor of Heron's product (a length) below -ASSEMBLY_TOL_EPS eps (R1+R2+R3+R4)
+#: means the loop cannot close; between that and 0 it is a toggle reached with roundoff.
+#: The compiled backend and ``classify`` ask this one constant.
+ASSEMBLY_TOL_EPS = 8.0
+
 
 @step(provides=("c2", "s2"), needs=("ATH2",))
 def _crank_angle(ATH2):
     """cos and sin of the crank angle, reduced modulo 360 degrees first."""
-    if ATH2.size and (ATH2.min() < 0.0 or ATH2.max() >= 360.0):
-        ATH2 = np.mod(ATH2, 360.0)  # exact (fmod), so ATH2 + 360 k gives identical results
+    # exact (fmod), so ATH2 + 360 k gives identical results; a NaN makes min or max NaN,
+    # and then every element is reduced (NaN stays NaN, the others as without it)
+    if ATH2.size and not (ATH2.min() >= 0.0 and ATH2.max() < 360.0):
+        ATH2 = np.mod(ATH2, 360.0)
     th2 = np.radians(ATH2)
     c2 = np.cos(th2)
     return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
@@ -39,9 +46,9 @@ def reachable(mechanism, n: int = 361):
         return np.linspace(0.0, 360.0, n, endpoint=False)
     spans = [((b - a) % 360.0, a) for a, b in c.arcs]
     total = sum(w for w, _ in spans)
-    out = []
+    out: list[np.ndarray] = []
     for k, (w, a) in enumerate(spans):
-        m = n - len(out) if k == len(spans) - 1 else max(2, round(n * w / total))
+        m = n - sum(len(o) for o in out) if k == len(spans) - 1 else max(2, round(n * w / total))
         out.append(np.mod(a + np.linspace(0.0, w, m), 360.0))
     return np.concatenate(out) if out else np.array([])
 
@@ -72,23 +79,27 @@ def _loop_closure(R1, R2, R3, R4, c2, s2, BRANCH):
     zl2 = dx * dx
     zl2 += dy * dy
     zl = np.sqrt(zl2)
-    # H^2 = ((ZL+R3)^2 - R4^2) (R4^2 - (ZL-R3)^2), each difference factored.
+    # H^2 = (ZL+R3+R4)(ZL+R3-R4)(R3+R4-ZL)(R4+ZL-R3).  ZL is known to about
+    # eps (R1+R2+R3+R4) (it comes from R1 - R2 cos th2 and R2 sin th2), and so is each
+    # linear factor: one within ASSEMBLY_TOL_EPS eps (R1+R2+R3+R4) below 0 is a toggle
+    # pushed there by roundoff (clamped to 0: H = 0), one further below means the loop
+    # cannot close (NaN).
+    tol = R1 + R2 + R3 + R4
+    tol = -ASSEMBLY_TOL_EPS * _EPS * tol
     t = zl + R3
     hh = t + R4
     t -= R4
+    _clamp(t, tol)
     hh *= t
     np.subtract(zl, R3, out=t)
     u = R4 - t
     t += R4
+    _clamp(u, tol)
+    _clamp(t, tol)
     u *= t
     hh *= u
     del t, u, zl
-    # A product pushed below 0 by roundoff is a toggle (H = 0); below -tol, no assembly.
-    tol = R1 + R2 + R3 + R4
-    tol = -16.0 * _EPS * tol**4
-    np.maximum(hh, 0.0, out=hh, where=hh > tol)
-    with np.errstate(invalid="ignore"):
-        h = np.sqrt(hh, out=hh)
+    h = np.sqrt(hh, out=hh)
     if BRANCH != 1.0:
         np.negative(h, out=h)
     k = 0.5 / R3
@@ -113,6 +124,12 @@ def _loop_closure(R1, R2, R3, R4, c2, s2, BRANCH):
     return c3, s3, c4, s4, h, zl2
 
 
+def _clamp(f, tol):
+    """A linear factor of H^2 in place: NaN below ``tol`` (< 0), 0 in [tol, 0)."""
+    np.copyto(f, np.nan, where=f < tol)
+    np.maximum(f, 0.0, out=f)  # NaN stays NaN
+
+
 def _angle_deg(s, c):
     """atan2 in degrees, mapped to (-90, 270] (the listing's range for TH3, TH4)."""
     a = np.asarray(np.arctan2(s, c))
@@ -134,5 +151,6 @@ def _link_angles(c3, s3, c4, s4):
 
 @step(provides=("GAMMA",), needs=("s34", "c34"))
 def _transmission_angle(s34, c34):
-    """Angle between coupler and rocker (at B), degrees in [0, 180]."""
-    return np.degrees(np.arctan2(-s34, c34))
+    """Angle between coupler and rocker (at B), degrees in [0, 180] on either branch
+    (the crossed branch has sin(th3 - th4) of the other sign)."""
+    return np.degrees(np.arctan2(np.abs(s34), c34))

@@ -1,23 +1,39 @@
-"""The step registry: each step declares what it needs and provides; a plan runs only
+"""Models made of steps: each step declares what it needs and provides; a plan runs only
 the steps the asked-for outputs depend on.
 
-``@step(provides=..., needs=..., zero_when=...)`` registers a function; its parameters
-must be its ``needs``.  ``_plan`` computes the dependency closure of the wanted names
-in dependency order, skips a step whose ``zero_when`` inputs are all zero (a massless
-link), and says after which step each intermediate can be dropped.  ``STEP_CALLS``
-counts the runs (tests prove an effect that is off costs nothing).  The steps live in
-the modules named after what they compute, in the order the physics goes:
-``positions``, ``velocities``, ``accelerations``, ``inertia``, ``forces``, ``outputs``.
+``@step(provides=..., needs=..., zero_when=...)`` marks a function as a step (its
+parameters must be its ``needs``); it registers nothing.  A :class:`Model` holds steps
+(``Model.add``) and :class:`Effect` s (``Model.add_effect``): an effect is declared once,
+in its own module, with what it seeds from the :class:`~sielaff.engine.scene.Scene`, its
+steps and the parts it adds to the superposed pin forces and drive torque; the model
+derives from the effects the step that sums those parts, the step that takes their
+public torques out of TORQ (``TORQ_INERTIA``), the outputs it can give and the inputs
+whose being zero skips steps.  The 1966 four-bar is one model (``fourbar.FOURBAR``); a
+second model (another linkage) is another ``Model`` with its own steps, and nothing is
+global but the default.
+
+``Model.plan`` computes the dependency closure of the wanted names in dependency order,
+skips a step whose ``zero_when`` inputs are all zero (a massless link, an effect that is
+off), and says after which step each intermediate can be dropped.  ``Model.calls``
+counts the runs (tests prove an effect that is off costs nothing); ``Model.replacing``
+gives a copy with some step functions swapped (how tests inject a spy or a fault).
 """
 
 from __future__ import annotations
 
 import inspect
 from collections import Counter
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
-from functools import lru_cache
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from dataclasses import replace as dataclasses_replace
+from types import ModuleType
 from typing import Any
+
+import numpy as np
+
+from sielaff.engine.statics import plus
+
+__all__ = ["Effect", "Model", "Plan", "Step", "step", "step_of", "steps_of"]
 
 
 @dataclass(frozen=True)
@@ -32,114 +48,327 @@ class Step:
     zero_groups: tuple[tuple[str, ...], ...] = ()  # zero if all of one group are zero
 
 
-#: All steps, in registration order.
-STEPS: list[Step] = []
-
-
-#: Which step provides each quantity.
-PROVIDER: dict[str, Step] = {}
-
-
-#: How many times each step has run (by step name); tests may reset it.
-STEP_CALLS: Counter[str] = Counter()
-
-
-def _register(st: Step) -> None:
-    for name in st.provides:
-        if name in PROVIDER:
-            raise ValueError(f"{name} provided twice ({PROVIDER[name].name}, {st.name})")
-        PROVIDER[name] = st
-    STEPS.append(st)
-
-
-def step(provides: Iterable[str], needs: Iterable[str] = (), zero_when=()):
-    """Register the decorated function as a step.
-
-    The function's parameters must be exactly ``needs`` (so the declaration
-    can be checked against the code) and it returns one value per name in
-    ``provides`` (a bare value if there is one).  ``zero_when``: names that,
-    if all identically zero, make every provided value zero; or a list of such
-    groups (tuples), any one of which all zero suffices (a link's inertia force is
-    zero if it has no mass *or* its centre of mass does not accelerate).
-    """
-    provides, needs = tuple(provides), tuple(needs)
+def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
     items = tuple(zero_when)
     if all(isinstance(x, str) for x in items):
-        groups = (items,) if items else ()
-    else:
-        groups = tuple((g,) if isinstance(g, str) else tuple(g) for g in items)
+        return (items,) if items else ()
+    return tuple((g,) if isinstance(g, str) else tuple(g) for g in items)
+
+
+def step(provides: Iterable[str], needs: Iterable[str] = (),
+         zero_when: Iterable[Any] = ()) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Mark the decorated function as a step (``steps_of`` finds it; a model adds it).
+
+    The function's parameters must be exactly ``needs`` (so the declaration can be
+    checked against the code) and it returns one value per name in ``provides`` (a bare
+    value if there is one).  ``zero_when``: names that, if all identically zero, make
+    every provided value zero; or a list of such groups (tuples), any one of which all
+    zero suffices (a link's inertia force is zero if it has no mass *or* its centre of
+    mass does not accelerate).  A step never changes its inputs (tests run the engine on
+    read-only arrays).
+    """
+    provides, needs = tuple(provides), tuple(needs)
+    groups = _groups(zero_when)
     flat = tuple(dict.fromkeys(n for g in groups for n in g))
 
-    def decorate(fn):
+    def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
         params = tuple(inspect.signature(fn).parameters)
         if params != needs:
             raise TypeError(f"step {fn.__name__}: parameters {params} != needs {needs}")
-        _register(Step(fn.__name__, fn, provides, needs, flat, groups))
+        fn.__sielaff_step__ = Step(fn.__name__, fn, provides, needs, flat, groups)  # type: ignore[attr-defined]
         return fn
 
     return decorate
 
 
-def _depends_on(name: str, inputs: frozenset[str]) -> bool:
-    """Whether ``name`` (transitively) needs any of ``inputs``."""
-    if name in inputs:
-        return True
-    st = PROVIDER.get(name)
-    return st is not None and any(_depends_on(n, inputs) for n in st.needs)
+def step_of(fn: Callable[..., Any]) -> Step:
+    """The Step ``@step`` made of ``fn``."""
+    return fn.__sielaff_step__  # type: ignore[attr-defined,no-any-return]
 
 
-@lru_cache(maxsize=256)
-def _plan(wanted: tuple[str, ...], seeded: frozenset[str],
-          zero_seeds: frozenset[str]) -> tuple[tuple[Step, bool, tuple[str, ...]], ...]:
-    """Steps to run, in dependency order, as (step, skipped, names to drop after it).
+def steps_of(module: ModuleType) -> tuple[Step, ...]:
+    """The steps a module defines with ``@step``, in the order they are written."""
+    return tuple(v.__sielaff_step__ for v in vars(module).values()
+                 if callable(v) and isinstance(getattr(v, "__sielaff_step__", None), Step)
+                 and v.__module__ == module.__name__)
 
-    Dropping intermediates after their last use lets numpy reuse their memory
-    (fresh multi-megabyte arrays cost page faults, more than the arithmetic).
+
+#: The superposed quantities an effect may add to (the pin forces and the drive torque).
+SLOTS = ("fa32x", "fa32y", "fb34x", "fb34y", "foax", "foay", "fobx", "foby", "torq")
+
+
+@dataclass(frozen=True)
+class Effect:
+    """What a scene may call for, declared once (in the effect's own module).
+
+    ``seed(scene, mechanism)`` gives the names it puts in the namespace (all zero when
+    the effect is off: its steps are then skipped); ``steps`` compute its parts;
+    ``parts`` maps a slot of :data:`SLOTS` to the name of the effect's share of that
+    superposed quantity (added to the 1966 program's totals); ``torque`` names its
+    public share of TORQ, if it has one (taken out of TORQ to leave ``TORQ_INERTIA``).
     """
 
-    zero_memo: dict[str, bool] = {}
+    name: str
+    steps: tuple[Step, ...]
+    seed: Callable[[Any, Any], dict[str, Any]]
+    parts: Mapping[str, str] = field(default_factory=dict)
+    torque: str | None = None
 
-    def known_zero(name: str) -> bool:
-        if name in seeded:
-            return name in zero_seeds
-        if name not in zero_memo:
-            zero_memo[name] = is_zero(PROVIDER[name])
-        return zero_memo[name]
+    def __post_init__(self) -> None:
+        bad = sorted(set(self.parts) - set(SLOTS))
+        if bad:
+            raise ValueError(f"effect {self.name}: unknown slots {bad} (slots: {SLOTS})")
 
-    def is_zero(st: Step) -> bool:
-        return any(all(known_zero(n) for n in g) for g in st.zero_groups)
 
-    order: list[tuple[Step, bool]] = []
-    available = set(seeded)
-    active: set[str] = set()
+#: A plan: (step, skipped, names to drop after it), in dependency order.
+Plan = tuple[tuple[Step, bool, tuple[str, ...]], ...]
 
-    def visit(name: str) -> None:
-        if name in available:
-            return
-        st = PROVIDER.get(name)
-        if st is None:
-            raise ValueError(f"{name} is neither an input nor provided by a step")
-        if st.name in active:
-            raise RuntimeError(f"dependency cycle through {st.name}")
-        skipped = is_zero(st)
-        if not skipped:
-            active.add(st.name)
-            for need in st.needs:
-                visit(need)
-            active.discard(st.name)
-        order.append((st, skipped))
-        available.update(st.provides)
 
-    for name in wanted:
-        visit(name)
-    last_use: dict[str, int] = {}
-    for i, (st, skipped) in enumerate(order):
-        for name in () if skipped else st.needs:
-            last_use[name] = i
-        for name in st.provides:
-            last_use.setdefault(name, i)
-    drops: list[list[str]] = [[] for _ in order]
-    for name, i in last_use.items():
-        if name not in wanted and name not in seeded:
-            drops[i].append(name)
-    return tuple((st, skipped, tuple(d)) for (st, skipped), d in zip(order, drops, strict=True))
+class Model:
+    """A model of a linkage: its steps, its effects, and how to run what is asked for.
+
+    ``results``: the default outputs, in print order; ``sums``: for each slot of
+    :data:`SLOTS` the name the sum of the effects' parts is provided as (the model's
+    force steps add it to their totals); ``breakdown``: ``(name, total)``, the total
+    torque less every effect's public torque (``("TORQ_INERTIA", "TORQ")``);
+    ``counts``: the name whose NaN marks a position that cannot assemble.
+    """
+
+    def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
+                 results: tuple[str, ...], sums: Mapping[str, str] | None = None,
+                 breakdown: tuple[str, str] | None = None, counts: str | None = None) -> None:
+        self.name = name
+        self._seed = seed
+        self.results = results
+        self.sums = dict(sums or {})
+        self.breakdown = breakdown
+        self.counts = counts
+        self.effects: list[Effect] = []
+        self._own: list[Step] = []
+        self.calls: Counter[str] = Counter()
+        self._derive()
+
+    # -- building ------------------------------------------------------------------------
+
+    def add(self, *items: Step | ModuleType | Iterable[Step]) -> Model:
+        """Add steps (a Step, the steps of a module, or an iterable of Steps)."""
+        for item in items:
+            if isinstance(item, Step):
+                self._own.append(item)
+            elif isinstance(item, ModuleType):
+                self._own.extend(steps_of(item))
+            else:
+                self._own.extend(item)
+        self._derive()
+        return self
+
+    def add_effect(self, effect: Effect) -> Model:
+        """Register an effect: its steps, its seed, its parts in the sums."""
+        if any(e.name == effect.name for e in self.effects):
+            raise ValueError(f"effect {effect.name} registered twice in model {self.name}")
+        self.effects.append(effect)
+        self._derive()
+        return self
+
+    def replacing(self, **fns: Callable[..., Any]) -> Model:
+        """A copy whose steps named in ``fns`` run the given functions instead."""
+        unknown = sorted(set(fns) - {s.name for s in self.steps})
+        if unknown:
+            raise ValueError(f"model {self.name} has no step {', '.join(unknown)}")
+        return self.mapping(lambda st: fns.get(st.name, st.fn))
+
+    def mapping(self, wrap: Callable[[Step], Callable[..., Any]], *,
+                skip_zeros: bool = True) -> Model:
+        """A copy whose every step runs ``wrap(step)`` instead of ``step.fn``; with
+        ``skip_zeros=False`` one that never skips a step (what the ``zero_when``
+        declarations are checked against)."""
+        def redo(s: Step) -> Step:
+            if skip_zeros:
+                return dataclasses_replace(s, fn=wrap(s))
+            return dataclasses_replace(s, fn=wrap(s), zero_when=(), zero_groups=())
+
+        new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
+                    breakdown=self.breakdown, counts=self.counts)
+        new._own = [redo(s) for s in self._own]
+        new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
+                       for e in self.effects]
+        new._derive()
+        new._derived = [redo(s) for s in new._derived]
+        new._index()
+        return new
+
+    def _derive(self) -> None:
+        """The steps the effects imply: the sums of their parts, the torque breakdown."""
+        derived: list[Step] = []
+        if self.sums:
+            derived.append(_sum_step(self.sums, self.effects))
+        if self.breakdown:
+            name, total = self.breakdown
+            torques = tuple(e.torque for e in self.effects if e.torque)
+            derived.append(Step("_torque_for_inertia", _less(len(torques)), (name,),
+                                (total,) + torques))
+        self._derived = derived
+        self._index()
+
+    def _index(self) -> None:
+        self.steps: tuple[Step, ...] = tuple(self._own) + tuple(
+            s for e in self.effects for s in e.steps) + tuple(self._derived)
+        provider: dict[str, Step] = {}
+        for st in self.steps:
+            for name in st.provides:
+                if name in provider:
+                    raise ValueError(f"{name} provided twice ({provider[name].name}, "
+                                     f"{st.name}) in model {self.name}")
+                provider[name] = st
+        self.provider = provider
+        self._plans: dict[tuple[Any, ...], Plan] = {}
+        self.outputs: tuple[str, ...] = self.results + tuple(sorted(
+            n for n in provider if n[0].isupper() and n not in self.results))
+        self.zero_candidates = frozenset(n for s in self.steps for n in s.zero_when)
+
+    # -- using ---------------------------------------------------------------------------
+
+    def seed(self, mechanism: Any, ath2: Any, scene: Any) -> dict[str, Any]:
+        """The namespace the steps start from: the model's inputs, then each effect's."""
+        ns = self._seed(mechanism, ath2, scene)
+        for effect in self.effects:
+            ns.update(effect.seed(scene, mechanism))
+        return ns
+
+    def zero_seeds(self, ns: Mapping[str, Any]) -> frozenset[str]:
+        """The seeded inputs that are identically zero (a massless link, an effect off)."""
+        return frozenset(n for n in self.zero_candidates if n in ns and not np.any(ns[n]))
+
+    def needs_assembly(self, name: str) -> bool:
+        """Whether ``name`` is undefined where the loop cannot close (it depends on the
+        position of links 3 and 4); a skipped step's zero is then NaN there too."""
+        return self.counts is not None and self.depends_on(name, frozenset((self.counts,)))
+
+    def depends_on(self, name: str, inputs: frozenset[str]) -> bool:
+        """Whether ``name`` (transitively) needs any of ``inputs``."""
+        if name in inputs:
+            return True
+        st = self.provider.get(name)
+        return st is not None and any(self.depends_on(n, inputs) for n in st.needs)
+
+    def plan(self, wanted: tuple[str, ...], seeded: frozenset[str],
+             zero_seeds: frozenset[str]) -> Plan:
+        """Steps to run, in dependency order, as (step, skipped, names to drop after it).
+
+        Dropping intermediates after their last use lets numpy reuse their memory
+        (fresh multi-megabyte arrays cost page faults, more than the arithmetic).
+        """
+        key = (wanted, seeded, zero_seeds)
+        if key not in self._plans:
+            if len(self._plans) > 256:
+                self._plans.clear()
+            self._plans[key] = self._make_plan(wanted, seeded, zero_seeds)
+        return self._plans[key]
+
+    def _make_plan(self, wanted: tuple[str, ...], seeded: frozenset[str],
+                   zero_seeds: frozenset[str]) -> Plan:
+        zero_memo: dict[str, bool] = {}
+        provider = self.provider
+
+        def known_zero(name: str) -> bool:
+            if name in seeded:
+                return name in zero_seeds
+            if name not in zero_memo:
+                zero_memo[name] = is_zero(provider[name])
+            return zero_memo[name]
+
+        def is_zero(st: Step) -> bool:
+            return any(all(known_zero(n) for n in g) for g in st.zero_groups)
+
+        order: list[tuple[Step, bool]] = []
+        available = set(seeded)
+        active: set[str] = set()
+
+        def visit(name: str) -> None:
+            if name in available:
+                return
+            st = provider.get(name)
+            if st is None:
+                raise ValueError(f"{name} is neither an input nor provided by a step")
+            if st.name in active:
+                raise RuntimeError(f"dependency cycle through {st.name}")
+            skipped = is_zero(st)
+            if not skipped:
+                active.add(st.name)
+                for need in st.needs:
+                    visit(need)
+                active.discard(st.name)
+            order.append((st, skipped))
+            available.update(st.provides)
+
+        for name in wanted:
+            visit(name)
+        last_use: dict[str, int] = {}
+        for i, (st, skipped) in enumerate(order):
+            for name in () if skipped else st.needs:
+                last_use[name] = i
+            for name in st.provides:
+                last_use.setdefault(name, i)
+        drops: list[list[str]] = [[] for _ in order]
+        for name, i in last_use.items():
+            if name not in wanted and name not in seeded:
+                drops[i].append(name)
+        return tuple((st, skipped, tuple(d))
+                     for (st, skipped), d in zip(order, drops, strict=True))
+
+    def run(self, order: Plan, ns: dict[str, Any]) -> int | None:
+        """Run the planned steps in ``ns``; the number of positions that cannot assemble
+        (NaN in ``counts``), None if no position was solved.  When some cannot, their mask
+        is left in ``ns["_not_assembled"]``."""
+        not_assembled = None
+        for st, skipped, drop in order:
+            if skipped:
+                for name in st.provides:
+                    ns[name] = 0.0
+            else:
+                self.calls[st.name] += 1
+                result = st.fn(*[ns[n] for n in st.needs])
+                if len(st.provides) == 1:
+                    result = (result,)
+                for name, value in zip(st.provides, result, strict=True):
+                    ns[name] = value
+                if self.counts in st.provides:
+                    mask = np.isnan(ns[self.counts])
+                    not_assembled = int(np.count_nonzero(mask))
+                    if not_assembled:
+                        ns["_not_assembled"] = mask
+            for name in drop:
+                del ns[name]
+        return not_assembled
+
+
+def _sum_step(sums: Mapping[str, str], effects: list[Effect]) -> Step:
+    """The step adding each effect's part of each slot, in registration order."""
+    slots = tuple(sums)
+    needs_by_slot = [tuple(e.parts[s] for e in effects if s in e.parts) for s in slots]
+    needs = tuple(dict.fromkeys(n for ns in needs_by_slot for n in ns))
+    where = [tuple(needs.index(n) for n in ns) for ns in needs_by_slot]
+
+    def _effects(*parts: Any) -> tuple[Any, ...]:
+        out = []
+        for idx in where:
+            total: Any = 0.0
+            for i in idx:
+                total = plus(total, parts[i])
+            out.append(total)
+        return tuple(out)
+
+    provides = tuple(sums[s] for s in slots)
+    # with no part at all the sums are always zero: one empty group, trivially all zero
+    groups: tuple[tuple[str, ...], ...] = (needs,)
+    return Step("_effects", _effects, provides, needs, needs, groups)
+
+
+def _less(k: int) -> Callable[..., Any]:
+    def _torque_for_inertia(total: Any, *parts: Any) -> Any:
+        """The total less each effect's public share (the links' inertia alone)."""
+        for p in parts:
+            total = total - p
+        return total
+
+    return _torque_for_inertia

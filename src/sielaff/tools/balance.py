@@ -44,8 +44,8 @@ def cmd_balance(args) -> int:
     except ValueError as exc:
         raise CommandError(f"{path}: {exc}") from None
     lines = [f"sielaff balance: {path} (units {m.units})", ""]
-    lines += balance_lines(m, balanced, args.radius2, args.radius4, **scene)
-    if scene.get("gravity") is not None or scene.get("loads"):
+    lines += balance_lines(m, balanced, args.radius2, args.radius4, scene=scene)
+    if scene.gravity is not None or scene.loads:
         lines.append("  (the spec's weights and loads still reach the frame: counterweights "
                      "cancel the inertia forces only)")
     if args.output:
@@ -62,8 +62,8 @@ def cmd_balance(args) -> int:
                                f"{exc}") from None
         written = m.replace(**{n: float(values[n]) for n in FIELD_NAMES})
         th = np.arange(3600) * 0.1
-        before = float(np.max(analyze(m, th, ["SHAK"], **scene)["SHAK"]))
-        after = float(np.max(analyze(written, th, ["SHAK"], **scene)["SHAK"]))
+        before = float(np.max(analyze(m, th, ["SHAK"], scene=scene)["SHAK"]))
+        after = float(np.max(analyze(written, th, ["SHAK"], scene=scene)["SHAK"]))
         lines += ["", f"Written to {args.output} with its fields to 4 decimals (F8.4): "
                   f"residual peak shaking force {after:.3g} {unit('SHAK', m.units)} "
                   f"({100.0 * after / before:.2g}% of the unbalanced {before:.4g})"]

@@ -46,6 +46,7 @@ import numpy as np
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
+from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.mechanism import Mechanism, crank_rocker_failure
 from sielaff.quantities import unit
 from sielaff.tools.common import describe_scene, work_text
@@ -75,7 +76,7 @@ MEANINGS = {
     "W2": "weight of link 2 (crank)",
     "W3": "weight of link 3 (coupler)",
     "W4": "weight of link 4 (rocker)",
-    "ZI2": "moment of inertia of link 2 (never used: constant speed)",
+    "ZI2": "moment of inertia of link 2 (used only when TH2DD != 0)",
     "ZI3": "moment of inertia of link 3 (about G3)",
     "ZI4": "moment of inertia of link 4 (about G4)",
     "R1": "frame, O2 to O4",
@@ -189,16 +190,16 @@ def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
 
 
 def _extreme(mechanism: Mechanism, name: str, sign: float = 1.0,
-             scene: dict | None = None) -> tuple[float, float]:
+             scene: Scene | None = None) -> tuple[float, float]:
     """(THETA 2, value) where ``sign * name`` is largest over one revolution."""
     from sielaff.engine import analyze
 
     th = revolution()[:-1]
-    scene = scene or {}
-    v = sign * analyze(mechanism, th, [name], **scene)[name]
+    scene = scene or Scene()
+    v = sign * analyze(mechanism, th, [name], scene=scene)[name]
     t0 = th[int(np.argmax(v))]
     fine = t0 + np.arange(-GRID_STEP, GRID_STEP + REFINE_STEP / 2, REFINE_STEP)
-    v = sign * analyze(mechanism, fine, [name], **scene)[name]
+    v = sign * analyze(mechanism, fine, [name], scene=scene)[name]
     i = int(np.argmax(v))
     return float(fine[i] % 360.0) + 0.0, float(sign * v[i])
 
@@ -324,8 +325,8 @@ def _clamp(x: float) -> float:
     return min(1.0, max(-1.0, x))
 
 
-def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = None) -> None:
-    scene = scene or {}
+def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
+    scene = scene or Scene()
     system = getattr(m, "units", "in-lb-sec")
     U = {"lb": unit("FA32", system), "in-lb": unit("TORQ", system)}  # noqa: N806
     effects = describe_scene(scene, system)
@@ -362,7 +363,7 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
     for name, heading, where in BEARINGS:
         at, value = _extreme(m, name, scene=scene)
         peak_loads.append(value)
-        direction = float(analyze(m, at, ["D" + name], **scene)["D" + name])
+        direction = float(analyze(m, at, ["D" + name], scene=scene)["D" + name])
         rep.add(f"    {heading} ({name + ')':5} at {where:2} {value:9.1f} {U['lb']} at THETA 2 = "
                 f"{at:5.1f} deg, direction {direction:5.1f} deg")
     at_max, t_max = _extreme(m, "TORQ", scene=scene)
@@ -376,7 +377,7 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
         rep.add(f"    peak power |TORQ| TH2D = {power:.0f} in-lb/sec = {power / 6600.0:.3g} hp")
     else:
         rep.add(f"    peak power |TORQ| TH2D = {power:.0f} W")
-    work, abs_work = cycle_work(m, **scene)
+    work, abs_work = cycle_work(m, scene=scene)
     ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
     rep.add("  cycle work, integral of TORQ d(THETA 2) over a revolution: "
             + work_text(work, abs_work))
@@ -401,20 +402,20 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: dict | None = Non
             f"Y component from {sy_neg:.1f} to {sy:.1f} {U['lb']}")
 
 
-def _design_section(m: Mechanism, rep: CheckReport, scene: dict | None = None) -> None:
+def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
     """The flywheel and the bearings (docs/design.md); a crank acceleration has no steady
     speed to size a flywheel for."""
     from sielaff.design import bearings, flywheel
     from sielaff.design.report import bearing_lines, flywheel_lines
 
-    scene = dict(scene or {})
-    if scene.get("th2dd", 0.0) == 0.0:
-        for line in flywheel_lines(flywheel(m, **scene), m.units):
+    scene = scene or Scene()
+    if not callable(scene.th2dd) and not np.any(scene.th2dd):
+        for line in flywheel_lines(flywheel(m, scene=scene), m.units):
             rep.add(line)
     else:
         rep.add("  flywheel: not sized (the scene accelerates the crank; a flywheel is sized "
                 "at a steady speed)")
-    for line in bearing_lines(bearings(m, **scene), m.units):
+    for line in bearing_lines(bearings(m, scene=scene), m.units):
         rep.add(line)
 
 
@@ -516,7 +517,7 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
 
 
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
-               scene: dict | None = None) -> CheckReport:
+               scene: Scene | None = None) -> CheckReport:
     """The report for ``deck`` (see the module doc)."""
     from sielaff.tools.common import mechanism_problem, results_problem
 

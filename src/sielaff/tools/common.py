@@ -13,6 +13,7 @@ import os
 import signal
 import sys
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
 from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's statuses)
@@ -22,6 +23,9 @@ from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's s
     EXIT_NOT_CRANK_ROCKER,
     CommandError,
 )
+
+if TYPE_CHECKING:
+    from sielaff.engine.scene import Scene
 
 
 # -- signals ------------------------------------------------------------------------
@@ -177,11 +181,15 @@ def load_for_engine(path: str, outputs=None) -> Deck:
     return load_scene(path, outputs)[0]
 
 
-NO_SCENE = {"th2dd": 0.0, "tex": 0.0, "gravity": None, "loads": ()}
+def no_scene() -> Scene:
+    """The 1966 program's scene (a deck has no other)."""
+    from sielaff.engine.scene import Scene
+
+    return Scene()
 
 
-def read_spec_deck(path: str) -> tuple[Deck, dict]:
-    """A TOML spec's deck (in its unit system) and its scene (``analyze``'s keywords)."""
+def read_spec_deck(path: str) -> tuple[Deck, Scene]:
+    """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
     import dataclasses
 
     from sielaff.emulator.cards import parse_deck
@@ -191,23 +199,22 @@ def read_spec_deck(path: str) -> tuple[Deck, dict]:
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
-        scene = scene_of(spec, path)
+        units, scene = scene_of(spec, path)
         deck = parse_deck(punch_deck(spec, path, any_units=True), path)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
-    units = scene.pop("units")
     return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
 
 
-def load_scene(path: str, outputs=None, any_linkage: bool = False) -> tuple[Deck, dict]:
+def load_scene(path: str, outputs=None, any_linkage: bool = False) -> tuple[Deck, Scene]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
-    (the deck, ``analyze``'s keywords for the scene).  Checked as ``load_for_engine``
+    (the deck, its Scene).  Checked as ``load_for_engine``
     says, with the scene's effects in the results; with ``any_linkage`` any four-bar
     whose fields can exist (the crank-rocker test and the ranges do not apply)."""
     if path.endswith(".toml"):
         deck, scene = read_spec_deck(path)
     else:
-        deck, scene = load_deck(path), dict(NO_SCENE)
+        deck, scene = load_deck(path), no_scene()
     if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
         problem = mechanism_problem(deck)
         if problem is not None and problem.status == EXIT_DECK:
@@ -229,7 +236,7 @@ def not_a_crank_rocker(deck: Deck) -> str | None:
 
 
 
-def results_problem(deck: Deck, outputs=None, scene: dict | None = None
+def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
                     ) -> CommandError | None:
     """Results past the IBM 1410's range (|x| >= 1E99, or not finite) over a revolution,
     where the listing could not print them and ``sielaff run`` stops (exit 2): one error
@@ -241,7 +248,7 @@ def results_problem(deck: Deck, outputs=None, scene: dict | None = None
 
     with np.errstate(all="ignore"):  # only the steps ``outputs`` need (kinematics: no forces)
         r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or RESULTS,
-                    **(scene or NO_SCENE))
+                    scene=scene or no_scene())
     worst, value = None, 0.0
     for name, v in r.items():
         bad = ~np.isfinite(v) | (np.abs(v) >= 1e99)
@@ -250,6 +257,11 @@ def results_problem(deck: Deck, outputs=None, scene: dict | None = None
             break
     if worst is None:
         return None
+    effects = describe_scene(scene, deck.mechanism.units)
+    if effects:  # the scene may be what drives it there: say so, blame no card
+        return CommandError(f"{deck.path}: [scene] {effects}: with this scene {worst} = "
+                            f"{value:.3g} {unit(worst, deck.mechanism.units)}, past the IBM "
+                            "1410's range (1E99) that every command keeps to")
     return CommandError(f"{deck.path}: card 6: TH2D = {deck.mechanism.TH2D:g} rad/sec with "
                         f"these lengths and weights gives {worst} = {value:.3g} {unit(worst)}, "
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
@@ -264,20 +276,25 @@ def work_text(work: float, abs_work: float) -> str:
     return f"{work:.3g} in-lb"
 
 
-def describe_scene(scene: dict | None, units: str = "in-lb-sec") -> str:
+def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
     """The effects a scene turns on, in words ("gravity, TH2DD = -40 rad/sec^2, 1 load"),
     or "" for the 1966 scene."""
     from sielaff.quantities import unit
 
-    scene = scene or {}
+    if scene is None:
+        return ""
     effects = []
-    if scene.get("gravity") is not None:
+    if scene.gravity is not None:
         effects.append("gravity")
-    if scene.get("th2dd"):
-        effects.append(f"TH2DD = {scene['th2dd']:g} {unit('TH3DD', units)}")
-    if scene.get("loads"):
-        n = len(scene["loads"])
+    if callable(scene.th2dd) or scene.th2dd:
+        effects.append("TH2DD a function of THETA 2" if callable(scene.th2dd) else
+                       f"TH2DD = {scene.th2dd:g} {unit('TH3DD', units)}")
+    if scene.loads:
+        n = len(scene.loads)
         effects.append(f"{n} load{'s' if n > 1 else ''}")
-    if scene.get("tex"):
-        effects.append(f"TEX = {scene['tex']:g} {unit('TEX', units)}")
+    if callable(scene.tex) or scene.tex:
+        effects.append("TEX a function of THETA 4" if callable(scene.tex) else
+                       f"TEX = {scene.tex:g} {unit('TEX', units)}")
+    if scene.branch != "open":
+        effects.append(f"the {scene.branch} branch")
     return ", ".join(effects)

@@ -17,9 +17,11 @@ exit status (every command):
   0    done; for check: the deck is usable
   1    diff: the listings differ
   2    bad input or output: a deck, spec or option that cannot be used (one line
-       names the card and columns, or the field), a range that never ends, an
+       names the card and columns, or the field), a range that never ends, a
+       program deck past the interpreter's limits (docs/robustness.md), an
        output file that cannot be written
-  3    not a crank-rocker (run prints the 1966 message; table, check, plot refuse)
+  3    not a crank-rocker (run and run --program print the 1966 message; table,
+       check, plot refuse)
   130  interrupted (Ctrl-C); no output file was changed
   143  ended by SIGTERM (timeout, kill); 129 by SIGHUP: no output file was changed"""
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import BinaryIO
 
 from sielaff.tools.common import (
     EXIT_NOT_CRANK_ROCKER,
@@ -38,7 +39,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                 run(deck, stream, arithmetic=args.arith, notice=notice,
                     kinematics_only=args.kinematics_only or args.only == "kinematics",
                     max_sheets=args.max_sheets, progress=bar, tex=args.tex,
-                    vectorised=not args.port)
+                    vectorised=not args.port, binary=None if args.render else _bytes_under(out))
         except NotCrankRocker as exc:
             # The listing holds the 1966 message; an -o file is left as it was (exit 3).
             if args.render:
@@ -61,10 +62,29 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bytes_under(stream) -> BinaryIO | None:
+    """The byte stream under ``stream`` if text written to it arrives there unchanged: a
+    TextIOWrapper in an ASCII-compatible encoding where lines end in "\n" (sys.stdout and
+    ``atomic_output``'s files do not translate "\n" there)."""
+    import codecs
+    import io
+    import os
+
+    if os.linesep != "\n" or not isinstance(stream, io.TextIOWrapper):
+        return None
+    try:
+        name = codecs.lookup(stream.encoding).name
+    except LookupError:
+        return None
+    return stream.buffer if name in ("ascii", "utf-8", "latin-1", "iso8859-1") else None
+
+
 def _run_program(args: argparse.Namespace, deck) -> int:
     """``sielaff run --program SOURCE DECK``: the program deck itself, interpreted."""
     from sielaff.emulator.fortran import FortranError, PageLimit, run_program
+    from sielaff.emulator.fortran.source import SOURCE_LIMIT
     from sielaff.emulator.printer import AsaRenderer
+    from sielaff.emulator.program import NotCrankRocker
     from sielaff.emulator.run import notice_printer
     from sielaff.tools.output import atomic_output
 
@@ -76,7 +96,7 @@ def _run_program(args: argparse.Namespace, deck) -> int:
                            "the edit on its cards (decks/edits/ has the report's three)")
     try:
         with open(args.program, encoding="ascii", errors="strict") as f:
-            source = f.read(1_000_000)
+            source = f.read(SOURCE_LIMIT + 1)  # one more: a longer deck is refused whole
     except (OSError, UnicodeDecodeError) as exc:
         why = getattr(exc, "strerror", None) or "not an ASCII card deck"
         raise CommandError(f"{args.program}: cannot read the program deck ({why})") from None
@@ -90,6 +110,13 @@ def _run_program(args: argparse.Namespace, deck) -> int:
                   "the deck asks for more", file=sys.stderr)
         except FortranError as exc:
             raise CommandError(str(exc)) from None
+        except NotCrankRocker:
+            # As ``run``: the listing holds the 1966 message, an -o file is left as it was.
+            if args.render:
+                stream.close()
+            raise CommandError(not_a_crank_rocker(deck) or f"{deck.path}: card 3: THIS IS "
+                               "NOT A CRANK ROCKER MECHANISM (the program says so)",
+                               EXIT_NOT_CRANK_ROCKER) from None
         if args.render:
             stream.close()
     return 0
@@ -98,7 +125,13 @@ def _run_program(args: argparse.Namespace, deck) -> int:
 def cmd_diff(args: argparse.Namespace) -> int:
     import contextlib
 
-    from sielaff.emulator.listing import ListingError, asa_records, diff_sheets, iter_sheets
+    from sielaff.emulator.listing import (
+        ListingError,
+        asa_records,
+        diff_sheets,
+        iter_sheets,
+        listing_lines,
+    )
 
     class Named:
         """A listing file's sheets, read as they are needed; errors name the file."""
@@ -109,7 +142,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
                 f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
             except OSError as exc:
                 raise CommandError(f"{path}: cannot read the listing ({exc.strerror})") from exc
-            self.sheets = iter_sheets(asa_records(_bounded_lines(f)))
+            self.sheets = iter_sheets(asa_records(listing_lines(f)))
 
         def __iter__(self):
             try:
@@ -133,21 +166,3 @@ def cmd_diff(args: argparse.Namespace) -> int:
             raise CommandError(f"{args.golden}: no sheet in the golden listing (empty, or not "
                                "a listing): nothing to compare")
     return status
-
-
-def _bounded_lines(f, limit: int = 1 << 16):
-    """The lines of ``f``, each cut at ``limit`` characters (the rest of a longer line is
-    read and dropped, a block at a time): a listing line is 133 characters, and a file with
-    no line ends must not be read into memory whole."""
-    while True:
-        line = f.readline(limit)
-        if not line:
-            return
-        if len(line) == limit and not line.endswith("\n"):
-            while True:
-                more = f.readline(limit)
-                if not more or more.endswith("\n"):
-                    break
-        yield line
-
-

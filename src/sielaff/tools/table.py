@@ -72,6 +72,7 @@ import numpy as np
 
 from sielaff import engine
 from sielaff.emulator.cards import Deck
+from sielaff.engine.scene import Scene  # noqa: TC001
 
 __all__ = ["BLOCK", "CHUNK", "FORMATS", "columns", "count", "angles",
            "header", "write_table", "cmd_table"]
@@ -168,7 +169,7 @@ def header(names: tuple[str, ...], units: bool = True, system: str = "in-lb-sec"
 
 
 def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
-                warn=None, units: bool = True, scene: dict | None = None) -> int:
+                warn=None, units: bool = True, scene: Scene | None = None) -> int:
     """Write the table of ``deck`` on ``out``; returns the number of rows.
 
     ``warn(text)`` receives one line per range card with no positions, and per
@@ -178,7 +179,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     if fmt not in FORMATS:
         raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
     warn = warn or (lambda text: None)
-    scene = scene or {}
+    scene = scene or Scene()
     json = fmt == "json"
     system = getattr(deck.mechanism, "units", "in-lb-sec")
     names = columns(kinematics_only)
@@ -213,7 +214,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
         view = buffers[:, :ath2.size]
         with np.errstate(all="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore", engine.AssemblyWarning)  # counted below
-            engine.analyze(deck.mechanism, ath2, **scene,
+            engine.analyze(deck.mechanism, ath2, scene=scene,
                            out={name: view[j] for j, name in enumerate(wanted)})
         block = view.T
         start = 0

@@ -32,8 +32,13 @@ Evaluation follows FORTRAN's precedence, left to right within a level.  A consta
 converted by the model (``ar.num`` of its text: the 1410 truncates to K digits), as the
 port converts its literals.  Arguments are passed by reference (copy in, copy out).  A
 subprogram's variables keep their values between calls, as they did on the 1410.
-Integers are Python integers: the 1410's integer size is not documented in the sources
-at hand, see docs/interpreter.md.
+Integers hold 20 decimal digits (the 1410's integer size is not documented in the
+sources at hand: this is the interpreter's own, docs/interpreter.md).  A relation is not a
+value (FORTRAN II has no logical values); a computed GO TO takes an integer variable.
+
+The run has a budget (``source``: statements, integer size, sheets and lines, the source's
+size; ``printer.RECORD_LIMIT``: a FORMAT's record); past it, one FortranError
+(docs/robustness.md).
 """
 
 from __future__ import annotations

@@ -4,8 +4,11 @@ arithmetic: constants converted by the model, FORTRAN's precedence, mixed mode."
 from __future__ import annotations
 
 import re
+from decimal import Decimal
 
+from sielaff.emulator.arithmetic import ArithmeticError1410
 from sielaff.emulator.fortran.source import (
+    INTEGER_DIGITS,
     INTEGER_FUNCTIONS,
     LIBRARY,
     FortranError,
@@ -17,6 +20,8 @@ from sielaff.emulator.fortran.source import (
 from sielaff.emulator.printer import Format, FormatError
 
 # -- expressions: FORTRAN text to Python source ---------------------------------
+
+_SMALLEST, _OVERFLOW = Decimal("1E-100"), Decimal("1E99")  # the card reader's range
 
 _TOKEN = re.compile(r"""
     (?P<real>(\d+\.\d*|\.\d+)(E[+-]?\d+)?|\d+E[+-]?\d+)
@@ -68,26 +73,59 @@ class _Expr:
                                f"{self.toks[self.i][1]!r}")
         return src, typ
 
+    def at(self) -> int:
+        """Position in the statement of the next token (or its end)."""
+        return self.toks[self.i][2] if self.i < len(self.toks) else len(self.st.text)
+
+    def logical(self, parse, what: str):
+        """An operand of .AND. .OR. .NOT.: a relation or a logical expression."""
+        at = self.at()
+        a, t = parse()
+        if t != "L":
+            side = "after it" if what == ".NOT." else "on each side"
+            raise FortranError(f"{self.st.where(at)}: {what} needs a relation (.GT. .LT. "
+                               f"...) {side}")
+        return a
+
+    def value(self, parse):
+        """An arithmetic operand: a relation has no value (FORTRAN II has no logical
+        values)."""
+        at = self.at()
+        a, t = parse()
+        self.no_relation(t, at)
+        return a, t
+
+    def no_relation(self, t: str, at: int) -> None:
+        if t == "L":
+            raise FortranError(f"{self.st.where(at)}: a relation is not a value (FORTRAN II "
+                               "has no logical values; a logical IF tests one)")
+
     def lor(self):
         a, t = self.land()
         while self.peek(".OR."):
+            if t != "L":
+                raise FortranError(f"{self.st.where(self.at())}: .OR. needs a relation "
+                                   "(.GT. .LT. ...) on each side")
             self.i += 1
-            b, _ = self.land()
+            b = self.logical(self.land, ".OR.")
             a, t = f"({a} or {b})", "L"
         return a, t
 
     def land(self):
         a, t = self.lnot()
         while self.peek(".AND."):
+            if t != "L":
+                raise FortranError(f"{self.st.where(self.at())}: .AND. needs a relation "
+                                   "(.GT. .LT. ...) on each side")
             self.i += 1
-            b, _ = self.lnot()
+            b = self.logical(self.lnot, ".AND.")
             a, t = f"({a} and {b})", "L"
         return a, t
 
     def lnot(self):
         if self.peek(".NOT."):
             self.i += 1
-            a, _ = self.lnot()
+            a = self.logical(self.lnot, ".NOT.")
             return f"(not {a})", "L"
         return self.rel()
 
@@ -97,42 +135,51 @@ class _Expr:
         a, ta = self.arith()
         t = self.peek()
         if t and t[1] in self.RELOPS:
+            if ta == "L":
+                raise FortranError(f"{self.st.where(t[2])}: {t[1]} compares two values, "
+                                   "not relations")
             self.i += 1
-            b, tb = self.arith()
+            b, tb = self.value(self.arith)
             a, b = self.c.mix(a, ta, b, tb)
             return f"({a} {self.RELOPS[t[1]]} {b})", "L"
         return a, ta
 
     def arith(self):
+        start = self.at()
         sign = None
         if self.peek("-") or self.peek("+"):
             sign = self.toks[self.i][1]
             self.i += 1
-        a, ta = self.term()
+        a, ta = self.value(self.term) if sign else self.term()
         if sign == "-":
             a = f"(-{a})"
         while self.peek("+") or self.peek("-"):
+            self.no_relation(ta, start)
             op = self.toks[self.i][1]
             self.i += 1
-            b, tb = self.term()
+            b, tb = self.value(self.term)
             a, ta = self.c.binary(a, ta, op, b, tb)
         return a, ta
 
     def term(self):
+        start = self.at()
         a, ta = self.factor()
         while self.peek("*") or self.peek("/"):
+            self.no_relation(ta, start)
             op = self.toks[self.i][1]
             self.i += 1
-            b, tb = self.factor()
+            b, tb = self.value(self.factor)
             a, ta = self.c.binary(a, ta, op, b, tb)
         return a, ta
 
     def factor(self):
+        start = self.at()
         a, ta = self.primary()
         if self.peek("**"):
             at = self.toks[self.i][2]
+            self.no_relation(ta, start)
             self.i += 1
-            b, tb = self.factor()
+            b, tb = self.value(self.factor)
             if tb != "I":
                 raise FortranError(f"{self.st.where(at)}: ** with a real exponent needs EXP "
                                    "and ALOG, which the 1410 library as modelled does not have")
@@ -146,25 +193,25 @@ class _Expr:
         kind, text, at = t
         self.i += 1
         if kind == "real":
-            return self.c.constant(text), "R"
+            return self.c.constant(self.st, at, text), "R"
         if kind == "int":
-            return str(int(text)), "I"  # "01" is 1
+            return self.c.integer(self.st, at, text), "I"  # "01" is 1
         if text == "(":
             a, ta = self.lor()
             self.take(")")
             return f"({a})", ta
         if text == "-":  # -X after an operator (an extension the 1410 may not have had)
-            a, ta = self.factor()
+            a, ta = self.value(self.factor)
             return f"(-{a})", ta
         if kind == "name":
             if self.peek("("):
                 self.i += 1
                 args = []
                 if not self.peek(")"):
-                    args.append(self.lor())
+                    args.append(self.value(self.lor))
                     while self.peek(","):
                         self.i += 1
-                        args.append(self.lor())
+                        args.append(self.value(self.lor))
                 self.take(")")
                 return self.c.call(self.st, at, text, args)
             return self.c.variable(text), implicit_type(text)
@@ -184,6 +231,18 @@ _ARITH_IF = re.compile(r"(\d+),(\d+),(\d+)$")
 _IO = re.compile(r"(READ|WRITE)\((\d+),(\d+)(,END=(\d+))?\)")
 _HEAD = re.compile(r"(FUNCTION|SUBROUTINE)([A-Z][A-Z0-9]*)(\(([A-Z0-9,]*)\))?$")
 _CALL = re.compile(r"CALL([A-Z][A-Z0-9]*)(\((.*)\))?$")
+
+
+def numpy_quiet(ar):
+    """numpy's floating-point warnings off for float32 (numpy scalars): an overflow is an
+    inf that stops the run where it is printed, as in float64, never a warning line."""
+    import contextlib
+
+    if getattr(ar, "name", "") != "float32":
+        return contextlib.nullcontext()
+    import numpy as np
+
+    return np.errstate(all="ignore")
 
 
 def _code(st: Statement, src: str, mode: str):
@@ -219,15 +278,35 @@ class _Compiler:
 
     def __init__(self, ar, units: dict[str, Unit]) -> None:
         self.ar, self.units = ar, units
-        self.consts: dict[str, object] = {}
+        self.consts: dict[str, object] = {}   # name in the code -> the model's value
+        self.names: dict[str, str] = {}       # constant's text -> its name
+        # float32 divides by zero quietly (inf): the interpreter stops as float64 does
+        self.rdiv = getattr(ar, "name", "") == "float32"
 
-    def constant(self, text: str) -> str:
-        name = f"_k{len(self.consts)}"
-        if text not in self.consts.values():
-            self.consts[name] = text
-        else:
-            name = next(k for k, v in self.consts.items() if v == text)
+    def constant(self, st: Statement, at: int, text: str) -> str:
+        """A real constant's name in the code; its value is the model's (``ar.num`` of the
+        text), which must lie in the 1410's range, as a card's value must."""
+        name = self.names.get(text)
+        if name is None:
+            try:
+                exact = Decimal(text)
+                if exact and not _SMALLEST <= abs(exact) < _OVERFLOW:
+                    raise ArithmeticError
+                with numpy_quiet(self.ar):  # float32: past its range is inf, as on a card
+                    value = self.ar.num(text)
+            except (ArithmeticError, ArithmeticError1410, ValueError):
+                raise FortranError(f"{st.where(at)}: constant {text} is past the IBM 1410's "
+                                   "range (1E-100 <= |x| < 1E99, or 0)") from None
+            name = self.names[text] = f"_k{len(self.consts)}"
+            self.consts[name] = value
         return name
+
+    def integer(self, st: Statement, at: int, text: str) -> str:
+        digits = text.lstrip("0")
+        if len(digits) > INTEGER_DIGITS:
+            raise FortranError(f"{st.where(at)}: integer constant {text} has more than "
+                               f"{INTEGER_DIGITS} digits (the interpreter's integer size)")
+        return str(int(digits or "0"))
 
     def variable(self, name: str) -> str:
         return f"V_{name}"
@@ -240,9 +319,11 @@ class _Compiler:
         return a, b
 
     def binary(self, a, ta, op, b, tb):
-        if ta == tb == "I":
-            return (f"_idiv({a}, {b})" if op == "/" else f"({a} {op} {b})"), "I"
+        if ta == tb == "I":  # + - * checked: an integer holds INTEGER_DIGITS digits
+            return (f"_idiv({a}, {b})" if op == "/" else f"_ichk({a} {op} {b})"), "I"
         a, b = self.mix(a, ta, b, tb)
+        if op == "/" and self.rdiv:
+            return f"_rdiv({a}, {b})", "R"
         return f"({a} {op} {b})", "R"
 
     def call(self, st, at, name, args):
@@ -278,6 +359,10 @@ class _Compiler:
         if want == "L" and typ != "L":
             raise FortranError(f"{st.where(start)}: a logical IF needs a relation "
                                "(.GT. .LT. ...)")
+        if want != "L" and typ == "L":
+            raise FortranError(f"{st.where(start)}: a relation is not a value (FORTRAN II "
+                               "has no logical values to store or compute with; a logical "
+                               "IF tests one)")
         return src
 
     def compile(self, unit: Unit) -> None:
@@ -288,7 +373,11 @@ class _Compiler:
                                        "twice")
                 unit.labels[st.label] = index
         for st in unit.statements:
-            self.statement(unit, st)
+            try:
+                self.statement(unit, st)
+            except RecursionError:
+                raise FortranError(f"{st.where()}: an expression nested too deeply to "
+                                   "compile") from None
             unit.code.append(st)
         for st in unit.statements:  # every GO TO (and END=) goes somewhere
             for target in _jumps(st):
@@ -343,6 +432,9 @@ class _Compiler:
             return
         m = _CGOTO.match(s)
         if m:
+            if implicit_type(m.group(2)) != "I":
+                raise FortranError(f"{st.where(m.start(2))}: computed GO TO needs an integer "
+                                   f"variable (I-N), not {m.group(2)}")
             targets = tuple(int(x) for x in m.group(1).split(",") if x)
             st.kind, st.data = "CGOTO", (_code(st, f"V_{m.group(2)}", "eval"), targets)
             return
@@ -418,14 +510,19 @@ def compile_source(text: str, ar, path: str = "<program>") -> dict[str, Unit]:
         if m and not current.statements or (m and current.statements
                                             and current.statements[-1].text == "END"):
             if current.statements:
-                units[current.name] = current
+                _add_unit(units, current, path)
             args = [a for a in (m.group(4) or "").split(",") if a]
             current = Unit(m.group(1), m.group(2), args)
+            current.head = st
             heads.append(st)
             continue
+        if current.statements and current.statements[-1].text == "END":
+            raise FortranError(f"{path}: {st.where()}: a statement after the END on card "
+                               f"{current.statements[-1].card}, in no program unit (a "
+                               "FUNCTION or SUBROUTINE card begins the next one)")
         current.statements.append(st)
     if current.statements:
-        units[current.name] = current
+        _add_unit(units, current, path)
     if "MAIN" not in units:
         raise FortranError(f"{path}: no main program")
     for unit in units.values():
@@ -440,9 +537,24 @@ def compile_source(text: str, ar, path: str = "<program>") -> dict[str, Unit]:
         raise FortranError(f"{path}: {exc}") from None
     except RecursionError:
         raise FortranError(f"{path}: an expression nested too deeply to compile") from None
-    consts = {name: ar.num(text) for name, text in compiler.consts.items()}
     for unit in units.values():
-        unit.consts = consts
+        unit.consts = compiler.consts
     return units
+
+
+def _add_unit(units: dict[str, Unit], unit: Unit, path: str) -> None:
+    """``unit`` added to ``units``: a name used twice (or a subprogram called MAIN, the
+    main program's name here) is refused on the later unit's first card."""
+    head = unit.head
+    where = head.where() if head is not None else unit.statements[0].where()
+    if unit.kind != "MAIN" and unit.name == "MAIN":
+        raise FortranError(f"{path}: {where}: {unit.kind} MAIN: MAIN names the main program "
+                           "here; choose another name")
+    if unit.name in units:
+        first = units[unit.name].head
+        raise FortranError(f"{path}: {where}: {unit.kind} {unit.name}: {unit.name} is "
+                           "defined twice" + (f" (first on card {first.card})"
+                                              if first is not None else ""))
+    units[unit.name] = unit
 
 

@@ -49,6 +49,7 @@ import numpy as np
 from sielaff.emulator.cards import Deck
 from sielaff.engine import analyze
 from sielaff.engine.derived import cycle_work
+from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.tools.common import work_text
 from sielaff.tools.plot.render import (  # noqa: F401 (part of this module's interface)
     _pyplot,
@@ -159,10 +160,10 @@ def _join(parts: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(out) if out else np.array([])
 
 
-def _evaluate(deck: Deck, names: list[str], scene: dict
+def _evaluate(deck: Deck, names: list[str], scene: Scene
               ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     segs = _segments(deck)
-    results = [analyze(deck.mechanism, seg, names, **scene) for seg in segs]
+    results = [analyze(deck.mechanism, seg, names, scene=scene) for seg in segs]
     return _join(segs), {n: _join([r[n] for r in results]) for n in names}
 
 
@@ -235,13 +236,13 @@ KINEMATIC_FIGURES = (
 XLABEL = "THETA 2, crank angle (deg)"
 
 
-def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
+def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
               ) -> dict[str, PlotData]:
     """The data of every figure for ``deck``, keyed by file stem (see module doc).
 
     ``only="kinematics"`` gives the kinematic figures instead of the force ones.
     """
-    scene = scene or {}
+    scene = scene or Scene()
     if only not in (None, "kinematics"):
         raise ValueError(f"only={only!r}: the choices are None and 'kinematics'")
     sub = _subtitle(deck, scene)
@@ -255,7 +256,7 @@ def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
         return out
 
     ath2, v = _evaluate(deck, ["TORQ"], scene)
-    work, abs_work = cycle_work(deck.mechanism, **scene)
+    work, abs_work = cycle_work(deck.mechanism, scene=scene)
     fig12 = PlotData(
         "fig12-driving-torque", f"Fig. 12  Driving torque against THETA 2\n{sub}", "line",
         ath2, XLABEL, "driving torque TORQ (in-lb)", series={"driving torque TORQ": v["TORQ"]},
@@ -265,13 +266,13 @@ def plot_data(deck: Deck, only: str | None = None, scene: dict | None = None
     pts = _deck_points(deck)
     if pts is not None:
         fig12.points["deck positions (listing sheets)"] = (
-            pts, analyze(deck.mechanism, pts, ["TORQ"], **scene)["TORQ"])
+            pts, analyze(deck.mechanism, pts, ["TORQ"], scene=scene)["TORQ"])
     out[fig12.name] = fig12
 
     names = sorted({n for fig in POLAR_FIGURES for n in fig[3:5]} | {"ATH4"})
     ath2, v = _evaluate(deck, names, scene)
     marks = _mark_angles(deck)
-    mv = analyze(deck.mechanism, marks, names, **scene)
+    mv = analyze(deck.mechanism, marks, names, scene=scene)
     for name, title, legend, mag, direction, relative in POLAR_FIGURES:
         theta, mark_theta = v[direction], mv[direction]
         if relative:
@@ -499,7 +500,7 @@ def render(d: PlotData, path: str) -> None:
 
 
 def write_plots(deck: Deck, directory: str, only: str | None = None,
-                scene: dict | None = None) -> list[str]:
+                scene: Scene | None = None) -> list[str]:
     """Write every figure of ``deck`` into ``directory`` (created if needed), all of them or
     none; the paths."""
     _pyplot()  # fail before any work if matplotlib is missing

@@ -4,6 +4,11 @@ shaded (oil-groove candidates; :mod:`sielaff.design.bearings`)."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sielaff.engine.scene import Scene
+
 import io
 import os
 
@@ -13,13 +18,13 @@ from sielaff.emulator.cards import Deck
 from sielaff.tools.plot.render import _pyplot, _subtitle, write_files
 
 
-def bearings_figure(deck: Deck, scene: dict):
+def bearings_figure(deck: Deck, scene: Scene):
     """The figure (2 rows of 4 polar axes: each pin's two members) and the pins."""
     from sielaff.design.bearings import bearings
     from sielaff.quantities import unit
 
     plt = _pyplot()
-    pins = bearings(deck.mechanism, n=720, **scene)
+    pins = bearings(deck.mechanism, n=720, scene=scene)
     force = unit("FA32", deck.mechanism.units)
     fig, axes = plt.subplots(2, 4, subplot_kw={"projection": "polar"}, figsize=(13, 8.4),
                              dpi=110)
@@ -45,7 +50,7 @@ def bearings_figure(deck: Deck, scene: dict):
     return fig, pins
 
 
-def write_bearings(deck: Deck, folder: str, scene: dict) -> list[str]:
+def write_bearings(deck: Deck, folder: str, scene: Scene) -> list[str]:
     fig, _ = bearings_figure(deck, scene)
     buf = io.BytesIO()
     fig.savefig(buf, format="png")

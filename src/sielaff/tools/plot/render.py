@@ -3,6 +3,11 @@ text boxes as the renderer measures them, the subtitle, and writing the files.""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sielaff.engine.scene import Scene
+
 import os
 
 from sielaff.emulator.cards import Deck
@@ -60,7 +65,7 @@ def overlapping(boxes) -> list[tuple[str, str]]:
     return pairs
 
 
-def _subtitle(deck: Deck, scene: dict | None = None) -> str:
+def _subtitle(deck: Deck, scene: Scene | None = None) -> str:
     from sielaff.quantities import unit
     from sielaff.tools.common import describe_scene
 

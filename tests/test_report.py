@@ -1,0 +1,255 @@
+"""``sielaff report``: one self-contained page, checked by a parser and in a real browser.
+
+The browser test opens the page in Debian's headless Chromium through Playwright (the
+``browser`` extra; ``.ci/run`` installs both) and skips, saying why, where either is
+missing.  It checks that the page loads with no console error, that no request leaves
+it, that every image decodes, and that a screenshot is a rendered page: not blank, with
+the title's text drawn where the title is.
+"""
+
+from __future__ import annotations
+
+import base64
+import html.parser
+import io
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import DECKS
+
+pytest.importorskip("matplotlib")
+
+VOID = {"meta", "img", "br", "hr", "link", "input", "source", "col", "area", "base", "wbr"}
+
+IN, LB, ZI = 0.0254, 0.45359237, 0.1129848290276167  # m/in, kg/lb, kg m^2 per in-lb-sec^2
+
+SI_SPEC = f"""
+[weights]
+crank = {3 * LB:.4f}
+coupler = {8 * LB:.4f}
+rocker = {6 * LB:.4f}
+[inertia]
+crank = 0.0
+coupler = {0.5 * ZI:.4f}
+rocker = {0.4 * ZI:.4f}
+[lengths]
+frame = {12 * IN:.4f}
+crank = {4 * IN:.4f}
+coupler = {16 * IN:.4f}
+rocker = {12 * IN:.4f}
+[mass_centres]
+crank = {{ distance = {2 * IN:.4f}, angle = 0.0 }}
+coupler = {{ distance = {8 * IN:.4f}, angle = -15.0 }}
+rocker = {{ distance = {6 * IN:.4f}, angle = 15.0 }}
+[drive]
+speed = 50.0
+[[range]]
+start = 10.0
+step = 10.0
+stop = 360.0
+[scene]
+units = "SI"
+gravity = "down"
+"""
+
+#: A double crank: the frame is the shortest link (4 + 16 < 12 + 12).
+DOUBLE_CRANK = """\
+    3.0     8.0     6.0
+    0.0     0.5     0.4
+    4.0    12.0    16.0    12.0
+    0.0   -15.0    15.0
+    2.0     8.0     6.0
+   50.0
+   10.0    10.0   360.0
+"""
+
+
+def _cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "sielaff", *args], capture_output=True,
+                          text=True, timeout=900, cwd=cwd)
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory) -> dict[str, str]:
+    """The example deck, an SI spec and a double crank, each made into a page once."""
+    d = tmp_path_factory.mktemp("report")
+    (d / "si.toml").write_text(SI_SPEC)
+    (d / "double.dat").write_text(DOUBLE_CRANK)
+    out = {}
+    for name, src in (("example", str(DECKS / "example.dat")), ("si", str(d / "si.toml")),
+                      ("double", str(d / "double.dat"))):
+        target = d / f"{name}.html"
+        r = _cli("report", src, "-o", str(target))
+        assert r.returncode == 0 and r.stderr == "", r.stderr
+        out[name] = str(target)
+    return out
+
+
+class _Checker(html.parser.HTMLParser):
+    """A strict walk: every element closed in order, every image a data: URI, no link to
+    anything outside the page."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.stack: list[str] = []
+        self.images: list[str] = []
+        self.problems: list[str] = []
+        self.text: list[str] = []
+        self.doctype = False
+
+    def handle_decl(self, decl: str) -> None:
+        self.doctype = self.doctype or decl.lower() == "doctype html"
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        for key in ("src", "href", "action", "poster"):
+            if key in a and not (a[key] or "").startswith("data:"):
+                self.problems.append(f"<{tag} {key}={a[key]!r}> points outside the page")
+        if tag == "img":
+            self.images.append(a.get("src", ""))
+            if not a.get("alt"):
+                self.problems.append("an image without alt text")
+        if tag == "script":
+            self.problems.append("a script")
+        if tag not in VOID:
+            self.stack.append(tag)
+
+    def handle_endtag(self, tag):
+        if not self.stack or self.stack[-1] != tag:
+            self.problems.append(f"</{tag}> closes <{self.stack[-1] if self.stack else ''}>")
+        else:
+            self.stack.pop()
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def _check(path: str) -> _Checker:
+    c = _Checker()
+    with open(path, encoding="utf-8") as f:
+        c.feed(f.read())
+    c.close()
+    assert c.doctype and not c.stack and not c.problems, (c.stack, c.problems)
+    return c
+
+
+@pytest.mark.parametrize("name", ["example", "si", "double"])
+def test_the_page_is_valid_html_and_self_contained(pages, name):
+    import matplotlib.image
+
+    c = _check(pages[name])
+    assert len(c.images) >= 2  # the linkage and its animation at least
+    for src in c.images:
+        mime, _, data = src.partition(";base64,")
+        raw = base64.b64decode(data, validate=True)
+        fmt = {"data:image/png": "png", "data:image/gif": "gif"}[mime]
+        if fmt == "png":
+            img = matplotlib.image.imread(io.BytesIO(raw), format="png")
+            assert img.shape[0] > 100 and img.shape[1] > 100
+        else:
+            assert raw[:6] in (b"GIF87a", b"GIF89a") and raw[-1:] == b";"
+    text = " ".join(" ".join(c.text).split())
+    assert "sielaff report" in text and "Made by sielaff" in text
+
+
+def test_the_example_page_holds_what_a_colleague_needs(pages):
+    text = " ".join(" ".join(_check(pages["example"]).text).split())
+    for needed in ("A crank-rocker in in-lb-sec units", "Peaks", "driving torque, largest",
+                   "in-lb", "Figures", "Fig. 12", "The check report", "Grashof",
+                   "1966 quirk", "flywheel", "Balancing", "Counterweights",
+                   "sielaff report " + str(DECKS / "example.dat")):
+        assert needed in text, needed
+
+
+def test_the_si_page_is_in_si(pages):
+    text = " ".join(" ".join(_check(pages["si"]).text).split())
+    assert "in SI units" in text and "gravity" in text
+    peaks = text[text.index("Peaks"):text.index("Figures")]
+    assert " N m " in peaks and " N " in peaks and " in-lb " not in peaks and " lb " not in peaks
+
+
+def test_the_double_crank_page_names_its_kind(pages):
+    text = " ".join(" ".join(_check(pages["double"]).text).split())
+    assert "A double-crank" in text and "Peaks" in text
+
+
+def test_bad_input_is_one_line_and_leaves_no_page(tmp_path):
+    target = tmp_path / "r.html"
+    r = _cli("report", str(tmp_path / "missing.dat"), "-o", str(target))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "missing.dat" in r.stderr
+    assert not target.exists()
+    (tmp_path / "bad.dat").write_text("    3.0     8.0\n")
+    r = _cli("report", str(tmp_path / "bad.dat"), "-o", str(target))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    assert not target.exists() and os.listdir(tmp_path) == ["bad.dat"]
+
+
+def test_a_failure_while_writing_leaves_the_old_page(tmp_path, monkeypatch, capsys):
+    from sielaff import cli
+    from sielaff.tools import report
+
+    target = tmp_path / "r.html"
+    target.write_text("old page")
+
+    def broken(*args, **kwargs):
+        raise OSError(28, "No space left on device", str(target))
+
+    monkeypatch.setattr(report, "report_html", broken)
+    assert cli.main(["report", str(DECKS / "example.dat"), "-o", str(target)]) == 2
+    assert target.read_text() == "old page"
+    assert os.listdir(tmp_path) == ["r.html"]
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+# ----- in a real browser ---------------------------------------------------------------
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if CHROMIUM is None:
+        pytest.skip("no chromium here (Debian's package: apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api",
+                                   reason="the browser extra: pip install -e '.[browser]'")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        yield b
+        b.close()
+
+
+@pytest.mark.parametrize("name", ["example", "si", "double"])
+def test_the_page_in_a_browser(pages, browser, name, tmp_path):
+    page = browser.new_page(viewport={"width": 1100, "height": 900})
+    errors, requests = [], []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    url = "file://" + os.path.abspath(pages[name])
+    page.on("request", lambda r: requests.append(r.url)
+            if not (r.url == url or r.url.startswith("data:")) else None)
+    page.goto(url, wait_until="load")
+    assert errors == [] and requests == [], (errors, requests)
+    images = page.eval_on_selector_all(
+        "img", "els => els.map(e => [e.complete, e.naturalWidth, e.naturalHeight])")
+    assert len(images) >= 2 and all(c and w > 0 and h > 0 for c, w, h in images), images
+    assert page.title() == "sielaff report: " + os.path.basename(pages[name]).replace(
+        ".html", {"example": ".dat", "si": ".toml", "double": ".dat"}[name])
+    shot = tmp_path / "shot.png"
+    page.screenshot(path=str(shot))
+    box = page.locator("h1").bounding_box()
+    page.close()
+    import matplotlib.image
+
+    pixels = matplotlib.image.imread(str(shot))[..., :3]
+    assert pixels.std() > 0.05  # not blank: text, lines and pictures
+    x0, y0 = int(box["x"]), int(box["y"])
+    title = pixels[y0:y0 + int(box["height"]), x0:x0 + int(box["width"])]
+    dark = np.count_nonzero(title.mean(axis=-1) < 0.5)
+    assert dark > 200, "the title's text is not drawn where the h1 is"
