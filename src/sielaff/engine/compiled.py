@@ -30,17 +30,23 @@ Error bound (stated and tested in tests/test_compiled.py, against the numpy engi
     sin, cos and atan2 here are within about 1 ulp of the correctly rounded value, as
     numpy's are, so each output differs from the numpy engine's by roundoff carried
     through the same formulas: at most ``ERROR_BOUND`` (1e-13) times that output's
-    scale (its largest finite magnitude over the call; angles and directions compared
-    on the circle, and a direction also within ERROR_BOUND times its vector's largest
-    magnitude over its magnitude, in radians: a short vector's direction is only as good
-    as its components), at every position at least ``CONDITION_LIMIT`` from a toggle
-    (``|sin GAMMA| >= 0.25``).  Nearer a toggle the position itself is ill-conditioned
-    in the crank angle (a rounding of cos TH2 moves H by eps / sin^2 GAMMA relatively,
-    and the accelerations divide by sin GAMMA once more), so neither path is more right
-    than the other; there the bound is multiplied by ``(0.25 / sin GAMMA)^3``.  NaN and
-    infinities exactly where the numpy engine has them, except at a toggle to within
-    roundoff (|sin GAMMA| < 1e-6), where either engine's rates are infinite or NaN by
-    the luck of rounding (0 / 0, inf - inf).
+    scale, the largest finite magnitude over the call of the outputs of its kind
+    (velocities, accelerations, forces, rates, angular accelerations, torques; at least
+    R2 |TH2D| for velocities, TH2D^2 + |TH2DD| for angular accelerations, ...; 360 for
+    angles and directions, compared on the circle; a direction also within ERROR_BOUND
+    times its kind's scale over its vector's magnitude, in radians: a short vector's
+    direction is only as good as its components), at every position at least
+    ``CONDITION_LIMIT`` from a toggle (``|sin GAMMA| >= 0.25``).  Nearer a toggle the
+    position itself is ill-conditioned in the crank angle (a rounding of cos TH2 moves
+    H by eps / sin^2 GAMMA relatively, and the accelerations divide by sin GAMMA once
+    more), so neither path is more right than the other; there the bound is multiplied
+    by ``(0.25 / sin GAMMA)^3``.  NaN and infinities exactly where the numpy engine has
+    them, except at a toggle to within roundoff (|sin GAMMA| < 1e-6), where either
+    engine's rates are infinite or NaN by the luck of rounding (0 / 0, inf - inf).
+    Not covered: change-point linkages (s + l = p + q within 1%) other than at their
+    well-conditioned positions; a rhombus (R1 = R2 = R3 = R4) folds through A = O4 and
+    its forces that are zero in exact arithmetic carry roundoff past the bound in both
+    engines.
 
 Semantics (those of the numpy engine after issue 20's fixes):
     GAMMA in [0, 180] on both branches; a zero vector's direction is 0; a position is
@@ -51,7 +57,9 @@ Semantics (those of the numpy engine after issue 20's fixes):
 Anything else (a function of the angle for TEX, TH2DD or a load field, arrays of designs,
 crank angles past 2^50 degrees, an output not in SUPPORTED) is a ValueError in one line.
 The package works without numba: importing this module does not import numba; the first
-call of a request compiles its kernel (a few seconds), later calls reuse it.
+call of a request compiles its kernel (tens of seconds), written to a file so that numba's
+cache keeps it for later processes.  This module reads better whole: the scalar steps,
+the generator that writes one kernel from them and the helpers it inlines are one design.
 """
 
 from __future__ import annotations
@@ -71,8 +79,8 @@ __all__ = ["ASSEMBLY_TOL_EPS", "CONDITION_LIMIT", "ERROR_BOUND", "SUPPORTED", "a
            "compiled_analyze", "compiled_results"]
 
 #: The assembly test's tolerance, in units of eps (R1 + R2 + R3 + R4), on each linear
-#: factor of Heron's product (the numpy engine's, issue 20).
-ASSEMBLY_TOL_EPS = 8.0
+#: factor of Heron's product: the numpy engine's (issue 20), one source.
+from sielaff.engine.positions import ASSEMBLY_TOL_EPS  # noqa: E402
 
 #: The stated bound: |compiled - numpy| <= ERROR_BOUND * scale of the output (see above).
 ERROR_BOUND = 1e-13
