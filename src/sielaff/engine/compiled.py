@@ -665,7 +665,7 @@ _PARAMS = ("R1", "R2", "R3", "R4", "RG2", "RG3", "RG4", "W2", "W3", "W4", "ZI2",
 def _source(wanted, zero_seeds, scalars, arrays, loads):
     """The kernel's Python source for one request (see ``compiled_analyze``): the
     parameters P (``_PARAMS``), the scalar effects S (``scalars``), the per-position
-    inputs x_j (``arrays``), one output o_j per wanted name."""
+    inputs xin_j (``arrays``), one output o_j per wanted name."""
     order = _plan(wanted, zero_seeds)
     zero = {n for st, skipped in order if skipped for n in st[0]} | set(zero_seeds)
     body = [f"{name} = 0.0" for name in sorted(zero_seeds)]
@@ -687,7 +687,7 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
         body += [x.strip() for x in code.strip().splitlines() if x.strip()]
     body = _inline(body, _helper_asts(), [0])
     body += [f"sc[{j}, i] = {name}" for j, name in enumerate(wanted)]
-    args = ", ".join(["th", "P", "S", "sc"] + [f"x_{j}" for j in range(len(arrays))]
+    args = ", ".join(["th", "P", "S", "sc"] + [f"xin_{j}" for j in range(len(arrays))]
                      + [f"o_{j}" for j in range(len(wanted))])
     return "\n".join([
         f"def kernel({args}):",
@@ -702,7 +702,7 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
         "        m = _select(n - s0 < B, n - s0, B)",
         "        for i in range(m):",
         "            ATH2 = th[s0 + i]",
-        *(f"            {name} = x_{j}[s0 + i]" for j, name in enumerate(arrays)),
+        *(f"            {name} = xin_{j}[s0 + i]" for j, name in enumerate(arrays)),
         *("            " + x for x in body),
         *(f"        for i in range(m):\n            o_{j}[s0 + i] = sc[{j}, i]"
           for j in range(len(wanted))),
