@@ -157,10 +157,12 @@ def _intrinsics():
 
 def _mod360(x):
     """np.mod(x, 360.0), exactly, for |x| < 2^50: floor, then the remainder (exact: a
-    multiple of x's ulp below 720) and one correction each way."""
+    multiple of x's ulp below 720), one step up if the floor was one short, and 360 added
+    to a negative one (rounded, as numpy's fmod + 360)."""
     t = _floor(x * (1.0 / 360.0))
     r = x - t * 360.0
-    r = _select(r >= 360.0, r - 360.0, r)
+    up = x - (t + 1.0) * 360.0  # exact and >= 0 when x / 360 rounded down past t + 1
+    r = _select(up >= 0.0, up, r)
     return _select(r < 0.0, r + 360.0, r)
 
 
