@@ -285,4 +285,4 @@ def test_bench_refuses_before_work(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "mpmath", None)  # as if not installed
     assert main(["bench", "--quick"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "needs mpmath" in err and "sielaff[bench]" in err
+    assert err.count("\n") == 1 and "needs mpmath" in err and '.[bench]"' in err

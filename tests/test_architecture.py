@@ -7,6 +7,7 @@ read with ``ast``; nothing is imported.  docs/architecture.md draws the same lay
     tools/                  commands (run, check, plot, punch, table, bench, helptext)
                             and what they share (common, errors, output, progress, spec)
     synthesis/              linkages from requirements (on design/ and the engine)
+    dynamics/               the crank driven by a motor (on design/ and the engine)
     design/                 design answers on the engine
     engine/   emulator/     the modern engine; the 1966 machine (neither imports the other)
     quantities              names, units, meanings
@@ -73,6 +74,8 @@ def layer(name: str) -> float:
         return 4
     if name == "sielaff.synthesis" or name.startswith("sielaff.synthesis."):
         return 3.75  # above design (it ranks on design's figures), below the tools
+    if name == "sielaff.dynamics" or name.startswith("sielaff.dynamics."):
+        return 3.6  # on design (the flywheel) and the engine, below synthesis and tools
     if name == "sielaff.design" or name.startswith("sielaff.design."):
         return 3.5  # above the engine, below the tools
     if name.startswith(("sielaff.engine", "sielaff.emulator")):
@@ -82,7 +85,7 @@ def layer(name: str) -> float:
 
 def group(name: str) -> str:
     for g in ("sielaff.tools", "sielaff.engine", "sielaff.emulator", "sielaff.design",
-              "sielaff.synthesis"):
+              "sielaff.synthesis", "sielaff.dynamics"):
         if name == g or name.startswith(g + "."):
             return g
     return name

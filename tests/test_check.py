@@ -275,12 +275,12 @@ def test_huge_deck_is_predicted_not_run():
 # --------------------------------------------------------------------------
 
 
-def check_cli(tmp_path, text: str) -> tuple[int, str, str]:
+def check_cli(tmp_path, text: str, *flags: str) -> tuple[int, str, str]:
     path = tmp_path / "deck.dat"
     path.write_text(text)
     out, err = io.StringIO(), io.StringIO()
     with mock.patch("sys.stdout", out), mock.patch("sys.stderr", err):
-        status = main(["check", str(path)])
+        status = main(["check", str(path), *flags])
     return status, _flat(out.getvalue()), err.getvalue()
 
 
@@ -316,7 +316,11 @@ def test_endless_range_exit_2(tmp_path, delta):
 def test_not_crank_rocker_exit_3(tmp_path):
     lines = _deck((10.0, 10.0, 360.0)).splitlines(keepends=True)
     lines[2] = "    12.0    14.0    16.0    12.0\n"  # R2 is not the shortest
+    # any four-bar is checked (a triple rocker here: exit 0, its kind's report) ...
     status, out, err = check_cli(tmp_path, "".join(lines))
+    assert status == 0 and "triple-rocker" in out
+    # ... and exit 3 is for an explicit crank-rocker requirement, as the 1966 program had
+    status, out, err = check_cli(tmp_path, "".join(lines), "--crank-rocker")
     assert status == 3
     assert "A = 1.14286 > 1" in out and "FAILS" in out
     assert "shortest links: frame R1 and rocker R4 = 12.0 in" in out

@@ -159,7 +159,7 @@ def test_balance_command_prints_the_price_and_writes_a_deck(tmp_path):
     th = np.arange(0.0, 360.0, 0.5)
     # F8.4 rounding leaves a residual far below the unbalanced peak (604.5 lb)
     assert analyze(deck.mechanism, th, ["SHAK"])["SHAK"].max() < 0.05
-    assert "residual peak shaking force" in text
+    assert "rounding to F8.4 accounts for" in text
 
 
 # -- bearings --------------------------------------------------------------------------

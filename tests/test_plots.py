@@ -252,9 +252,9 @@ def test_plot_not_crank_rocker(tmp_path):
     lines[2] = "    12.0    14.0    16.0    12.0\n"
     deck.write_text("".join(lines))
     status, out, err = plot_subprocess(str(deck), "-o", str(tmp_path / "plots"))
-    assert status == 3 and out == ""
-    assert err.count("\n") == 1 and "THIS IS NOT A CRANK ROCKER MECHANISM" in err
-    assert not (tmp_path / "plots").exists()
+    # any four-bar is drawn over the angles it reaches, its kind said on stderr (issue 22)
+    assert status == 0 and "triple-rocker" in err and "Traceback" not in err
+    assert (tmp_path / "plots" / "fig12-driving-torque.png").exists()
 
 
 def test_plot_without_matplotlib(tmp_path):
@@ -264,7 +264,7 @@ def test_plot_without_matplotlib(tmp_path):
             f"{str(tmp_path / 'p')!r}]))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 2
-    assert r.stderr == "sielaff: sielaff plot needs matplotlib: pip install 'sielaff[plot]'\n"
+    assert r.stderr == "sielaff: sielaff plot needs matplotlib: pip install -e \".[plot]\"\n"
     assert not (tmp_path / "p").exists()
 
 
@@ -387,7 +387,7 @@ def test_plot_linkage_and_animate_write_the_files(tmp_path):
 
 
 def test_plot_linkage_draws_any_four_bar(tmp_path):
-    """--linkage is for every kind; the report's figures stay for crank-rockers (exit 3)."""
+    """--linkage is for every kind, and so are the report's figures (issue 22)."""
     lines = (DECKS / "example.dat").read_text().splitlines()
     lines[2] = "    10.0     4.0     5.0     4.0"  # a triple-rocker
     deck = tmp_path / "tri.dat"
@@ -395,6 +395,8 @@ def test_plot_linkage_draws_any_four_bar(tmp_path):
     ok = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck), "--linkage",
                          "-o", str(tmp_path / "a")], capture_output=True, text=True)
     assert ok.returncode == 0 and (tmp_path / "a" / "linkage.png").stat().st_size > 10_000
-    refused = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck),
-                              "-o", str(tmp_path / "b")], capture_output=True, text=True)
-    assert refused.returncode == 3 and "NOT A CRANK ROCKER" in refused.stderr
+    # the report's figures too, over the arcs it reaches, its kind said on stderr
+    figs = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck),
+                           "-o", str(tmp_path / "b")], capture_output=True, text=True)
+    assert figs.returncode == 0 and "triple-rocker" in figs.stderr
+    assert (tmp_path / "b" / "fig12-driving-torque.png").stat().st_size > 10_000

@@ -253,3 +253,25 @@ def test_the_page_in_a_browser(pages, browser, name, tmp_path):
     title = pixels[y0:y0 + int(box["height"]), x0:x0 + int(box["width"])]
     dark = np.count_nonzero(title.mean(axis=-1) < 0.5)
     assert dark > 200, "the title's text is not drawn where the h1 is"
+
+
+def test_a_sweep_spec_gets_its_pareto_front(tmp_path):
+    """decks/sweep.toml: the page holds the sweep's Pareto front, checked against the
+    front computed here from the sweep's own figures."""
+    from sielaff.design.figures import figures
+    from sielaff.tools.common import read_spec_deck
+
+    target = tmp_path / "sweep.html"
+    r = _cli("report", str(DECKS / "sweep.toml"), "-o", str(target))
+    assert r.returncode == 0, r.stderr
+    c = _check(str(target))
+    text = " ".join(" ".join(c.text).split())
+    assert "The sweep" in text and "5,002 designs (61 x 41 x 2" in text
+    assert "Pareto front of TORQ_RMS and SHAK_PEAK" in text
+    # the first row of the front: the design with the least TORQ_RMS
+    deck, scene = read_spec_deck(str(DECKS / "sweep.toml"))
+    R4, W3 = np.meshgrid(np.linspace(9.0, 15.0, 61), np.linspace(2.0, 12.0, 41), indexing="ij")
+    f = figures(deck.mechanism.replace(R4=R4.ravel(), W3=W3.ravel()), scene=scene)
+    best = np.nanmin(f["TORQ_RMS"])  # unbalanced designs; balanced ones only add torque
+    row = text[text.index("TORQ_RMS [in-lb] SHAK_PEAK [lb]"):]
+    assert f"{best:.5g}" in row.split("The sweep's designs")[0]

@@ -30,6 +30,7 @@ from sielaff.tools.common import (
     EXIT_INTERRUPTED,
     CommandError,
     Terminated,
+    finish_signals,
     install_signal_handlers,
     silence_stdout,
 )
@@ -127,6 +128,10 @@ EXAMPLES = {
                "  sielaff balance decks/scene.toml -o out/balanced.toml",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
+    "simulate": "example:\n  sielaff simulate decks/motor.toml -o out/motor.csv --plot "
+                "out/motor.png",
+    "synth": "example:\n  sielaff synth decks/synth.toml -o out/ranked.csv --write-best out/best",
+    "tolerance": "example:\n  sielaff tolerance decks/tolerance.toml",
     "report": "example:\n  sielaff report decks/example.dat -o out/example.html",
 }
 
@@ -139,6 +144,9 @@ COMMANDS = {
     "plot": "sielaff.tools.plot:cmd_plot", "punch": "sielaff.tools.punch:cmd_punch",
     "bench": "sielaff.tools.bench:cmd_bench", "help": "sielaff.tools.helptext:cmd_help",
     "balance": "sielaff.tools.balance:cmd_balance", "sweep": "sielaff.tools.sweep:cmd_sweep",
+    "simulate": "sielaff.tools.simulate:cmd_simulate",
+    "synth": "sielaff.tools.synth:cmd_synth",
+    "tolerance": "sielaff.tools.tolerance:cmd_tolerance",
     "report": "sielaff.tools.report:cmd_report",
 }
 
@@ -206,6 +214,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("table", "the modern engine's results for a deck, one row per "
             "position from THZERO to THMAX (CSV or JSON)")
     p.add_argument("deck")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("--format", choices=("csv", "json"), default="csv",
                    help="csv (default; a header row) or json ({columns, rows})")
     p.add_argument("--only", choices=("kinematics",),
@@ -232,6 +243,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("check", "report on a deck: values, Grashof and crank-rocker margins, "
             "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
     p.add_argument("deck")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
+    p.add_argument("--format", choices=("text", "json"), default="text",
+                   help="text (default) or json: the linkage's kind, Grashof sum and margin, "
+                        "toggles, arcs, status and the report's lines")
+    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
+    p.add_argument("--crank-rocker", action="store_true",
+                   help="require a crank-rocker (the 1966 program's test): exit 3 if not")
 
     p = add("plot", "the report's Figures 12, 13, 14 and 16 as PNG files, and polar "
             "diagrams of the other two bearings (the report's 15 and 17, captions lost), "
@@ -248,13 +268,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--linkage", action="store_true",
                    help="draw the linkage itself to scale (linkage.png): joints, centres of "
                         "mass, the path of G3, toggle limits (the report's Figure 9)")
-    p.add_argument("--at", type=angle_list, default=(40.0,), metavar="DEG[,DEG...]",
+    p.add_argument("--at", type=angle_list, default=None, metavar="DEG[,DEG...]",
                    help="with --linkage: the crank angles drawn (default 40)")
     p.add_argument("--point", type=point_spec, action="append", default=[],
                    metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "
                    "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")
-    p.add_argument("--branch", choices=("open", "crossed"), default="open",
-                   help="with --linkage: the assembly drawn (open: the 1966 program's)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("--bearings", action="store_true",
                    help="the load on each member at each pin, relative to the member, with "
                         "the arcs never loaded shaded (bearings.png)")
@@ -268,6 +289,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the crank's counterweight this far from O2 (default R2)")
     p.add_argument("--radius4", type=positive_length, metavar="R",
                    help="the rocker's counterweight this far from O4 (default R4)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="also write the balanced design: a spec if FILE ends .toml, else a "
                         "deck (atomically)")
@@ -285,6 +309,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the dask.distributed cluster whose scheduler is at ADDRESS "
                         "(e.g. tcp://host:8786)")
+    p.add_argument("--branch", choices=("open", "crossed"), default=None,
+                   help="the assembly analysed (open: the 1966 program's); overrides a "
+                        "spec's [scene] branch")
+
+    p = add("simulate", "the crank driven by the spec's [motor] (forward dynamics): the "
+            "time history as CSV with units, a plot of speed and torque against THETA 2 "
+            "(needs scipy: pip install -e \".[dynamics]\")")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the time history here (atomically) instead of stdout")
+    p.add_argument("--plot", metavar="FILE.png",
+                   help="also draw the crank speed and the torques against THETA 2")
+
+    p = add("synth", "synthesise linkages from a spec's [synthesis] (crank_rocker, function, "
+            "motion or path) and rank them by dynamics in its [scene]: a CSV, best first")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE.csv",
+                   help="write the ranked table here (atomically) instead of stdout")
+    p.add_argument("--write-best", metavar="DIR",
+                   help="also write the [synthesis] best-ranked candidates as DIR/best-K.toml "
+                        "specs, and DIR/best-K.dat decks where a deck can hold them")
+
+    p = add("tolerance", "a Monte Carlo of a spec's [tolerance] deviations: per design "
+            "figure the nominal, mean, std, 5/95 percentiles and first-order sensitivities")
+    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write the table here (atomically) instead of stdout")
+    p.add_argument("--workers", type=worker_count, default=None, metavar="N",
+                   help="N > 1: dask's local threads when dask is installed (the same "
+                        "numbers); default: this process")
 
     p = add("report", "one self-contained HTML page for a deck or spec: its values with "
             "units, kind, peaks, the linkage drawn and animated, the report's figures, "
@@ -313,7 +367,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)  # what made an output (report)
-    install_signal_handlers()
+    from sielaff.tools import output
+
+    output.committed.clear()  # what this run replaces (main may run more than once)
+    install_signal_handlers(process=_PROCESS)
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
     if sys.stdout is None:  # started with >&-
@@ -322,10 +379,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         else:
             return _closed_stream()
     debug = getattr(args, "debug", False)
-    with warnings.catch_warnings():
-        # A Python warning becomes one diagnostic line, never source text and a path.
-        warnings.showwarning = _warning_line
-        return _dispatch(args, debug)
+    try:
+        with warnings.catch_warnings():
+            # A Python warning becomes one diagnostic line, never source text and a path.
+            warnings.showwarning = _warning_line
+            return _dispatch(args, debug)
+    finally:
+        _flush()
+        finish_signals()
+
+
+def _flush() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
 
 
 def _closed_stream() -> int:
@@ -345,6 +414,8 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.output import changed_note
+
     try:
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
@@ -356,13 +427,12 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     except KeyboardInterrupt:
         if debug:
             raise
-        print("sielaff: interrupted; no output file was changed", file=sys.stderr)
+        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Terminated as exc:
         if debug:
             raise
-        print(f"sielaff: terminated by {exc.name}; no output file was changed",
-              file=sys.stderr)
+        print(f"sielaff: terminated by {exc.name}; {changed_note()}", file=sys.stderr)
         return exc.status
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.
@@ -389,7 +459,25 @@ def one_blas_thread() -> None:
         os.environ.setdefault(name, "1")
 
 
+#: True when main runs as the ``sielaff`` process (``entry``), not called in-process.
+_PROCESS = False
+
+
 def entry() -> None:
-    """Console-script entry point."""
+    """Console-script entry point (and ``python -m sielaff``).
+
+    A signal that arrives after the command has ended but before main returns (a few
+    instructions) is reported here as _dispatch would; after that, signals are ignored
+    (``finish_signals``)."""
+    global _PROCESS
+    _PROCESS = True
     one_blas_thread()
-    sys.exit(main())
+    try:
+        status = main()
+    except (KeyboardInterrupt, Terminated) as exc:
+        from sielaff.tools.output import changed_note
+
+        what = f"terminated by {exc.name}" if isinstance(exc, Terminated) else "interrupted"
+        print(f"sielaff: {what}; {changed_note()}", file=sys.stderr)
+        status = getattr(exc, "status", EXIT_INTERRUPTED)
+    sys.exit(status)

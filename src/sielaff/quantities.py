@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from sielaff.mechanism import UNITS as MECHANISM_UNITS
 
-__all__ = ["CONVENTIONS", "G", "describe", "unit"]
+__all__ = ["CONVENTIONS", "G", "KINDS", "describe", "fmt", "unit", "unit_of"]
 
 #: Standard gravity in the report's unit system, in/sec^2 (the listing's G=386.0880):
 #: W / G turns a weight in lb into a mass in lb-sec^2/in.
@@ -121,6 +121,56 @@ def unit(name: str, units: str = "in-lb-sec") -> str:
     if units != "in-lb-sec":
         raise ValueError(f"units = {units!r}: in-lb-sec or SI")
     return found
+
+
+#: The unit of each kind of quantity, (in-lb-sec, SI): every tool and figure labels a
+#: number through :func:`unit_of` or :func:`fmt`, so a spec in SI never reads as inches.
+#: In SI a link's W field is a mass (kg) and gravity makes it a weight in N.
+KINDS: dict[str, tuple[str, str]] = {
+    "length": ("in", "m"),
+    "weight": ("lb", "kg"),  # the W fields: a weight in the report, a mass in SI
+    "force": ("lb", "N"),
+    "inertia": ("in-lb-sec^2", "kg m^2"),
+    "torque": ("in-lb", "N m"),
+    "work": ("in-lb", "J"),
+    "power": ("in-lb/sec", "W"),
+    "speed": ("in/sec", "m/s"),
+    "acceleration": ("in/sec^2", "m/s^2"),
+    "angle": ("deg", "deg"),
+    "rate": ("rad/sec", "rad/s"),
+    "angular acceleration": ("rad/sec^2", "rad/s^2"),
+}
+
+
+def unit_of(name_or_kind: str, units: str = "in-lb-sec") -> str:
+    """The unit of a kind of quantity (a key of :data:`KINDS`: ``"length"``,
+    ``"force"``, ``"torque"``, ``"work"``, ...) or of a listing or engine name
+    (``"R1"``, ``"TORQ"``, see :func:`unit`) in the unit system ``units``
+    (``"in-lb-sec"`` or ``"SI"``)."""
+    if units not in ("in-lb-sec", "SI"):
+        raise ValueError(f"units = {units!r}: in-lb-sec or SI")
+    if name_or_kind in KINDS:
+        return KINDS[name_or_kind][units == "SI"]
+    return unit(name_or_kind, units)
+
+
+def fmt(value: float, name_or_kind: str, units: str = "in-lb-sec", spec: str = ".4g") -> str:
+    """``value`` with its unit: ``fmt(12.0, "length", "SI") == "12 m"``.
+
+    Parameters
+    ----------
+    value : float
+        The number [the unit of ``name_or_kind`` in ``units``].
+    name_or_kind : str
+        A kind of :data:`KINDS` or a listing or engine name [-].
+    units : str
+        ``"in-lb-sec"`` (the report's) or ``"SI"`` [-].
+    spec : str
+        A format spec for the number (``".4g"``, ``"9.1f"``) [-].
+    """
+    u = unit_of(name_or_kind, units)
+    text = format(float(value), spec)
+    return text if u == "-" else f"{text} {u}"
 
 
 def describe(name: str) -> str:

@@ -11,6 +11,8 @@ the flywheel that a driving torque which changes sign calls for.
   never loaded, load reversals
 * :mod:`~sielaff.design.figures`   the figures a sweep compares, per design
 * :mod:`~sielaff.design.sweep`     grids of designs, in process or on dask
+* :mod:`~sielaff.design.tolerance` Monte Carlo of manufacturing deviations, with
+  first-order sensitivities
 
 This layer imports the engine, ``quantities`` and ``mechanism``; the commands in
 ``tools/`` import it (docs/architecture.md).  Equations and checks: docs/design.md.
@@ -19,6 +21,7 @@ This layer imports the engine, ``quantities`` and ``mechanism``; the commands in
 from sielaff.design.balance import balance, counterweights
 from sielaff.design.bearings import Pin, bearings
 from sielaff.design.flywheel import Flywheel, flywheel, flywheel_from_torque
+from sielaff.design.tolerance import Tolerance, tolerance
 
-__all__ = ["Flywheel", "Pin", "balance", "bearings", "counterweights", "flywheel",
-           "flywheel_from_torque"]
+__all__ = ["Flywheel", "Pin", "Tolerance", "balance", "bearings", "counterweights",
+           "flywheel", "flywheel_from_torque", "tolerance"]

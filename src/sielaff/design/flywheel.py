@@ -22,6 +22,10 @@ fluctuation it allows must be small (cf of a few per cent) for that to hold.
 E is integrated spectrally: TORQ is smooth and periodic, so the Fourier series of its
 samples integrates to machine precision, and the extremes of E (where TORQ = Tm) are
 found by Newton's method on that series, not taken from the grid.  ``n`` samples.
+
+The cycle need not be one crank revolution: ``cycle`` (degrees) is the crank angle over
+which the torque repeats (720 for a four-stroke engine's), the samples span it, and E is
+integrated over it (the series in the cycle's own angle, scaled by cycle / 360).
 """
 
 from __future__ import annotations
@@ -86,11 +90,22 @@ def _extreme(c_e, c_t, k, theta0, steps=4):
     return _series(c_e, k, theta)
 
 
-def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
-    """The flywheel for ``torque`` sampled at THETA 2 = 360 j / n degrees, j = 0..n-1
-    (last axis; leading axes are designs), at mean speed ``th2d`` rad/sec."""
+def _cycle(cycle: Any) -> float:
+    if isinstance(cycle, bool) or not isinstance(cycle, (int, float)) \
+            or not 0.0 < cycle <= 36000.0:
+        raise ValueError(f"cycle = {cycle!r}: the crank angle the torque repeats over, in "
+                         "degrees (0, 36000]")
+    return float(cycle)
+
+
+def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05,
+                         cycle: float = 360.0) -> Flywheel:
+    """The flywheel for ``torque`` [in-lb or N m] sampled at THETA 2 = cycle j / n degrees,
+    j = 0..n-1 (last axis; leading axes are designs), at mean speed ``th2d`` [rad/sec];
+    ``cycle`` [deg] is the crank angle over which the torque repeats (360 by default)."""
     if not (isinstance(cf, (int, float)) and 0.0 < cf < 2.0):
         raise ValueError(f"cf = {cf!r}: the coefficient of speed fluctuation is in (0, 2)")
+    span = _cycle(cycle) / 360.0       # crank radians per radian of the cycle's angle
     t = np.asarray(torque, dtype=float)
     n = t.shape[-1]
     if n < 8 or n % 2:
@@ -108,14 +123,16 @@ def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
     c_e = np.zeros_like(c_t)
     c_e[..., 1:] = c_t[..., 1:] / (1j * k[1:])
     theta = 2.0 * np.pi * np.arange(n) / n
-    g = np.fft.irfft(c_e * (n / 2.0), n, axis=-1)
+    g = np.fft.irfft(c_e * (n / 2.0), n, axis=-1) * span
     curve = g - g[..., :1]             # E(0) = 0
     i_max = np.argmax(curve, axis=-1)
     i_min = np.argmin(curve, axis=-1)
-    e_max = _extreme(c_e, c_t, k, theta[i_max])
-    e_min = _extreme(c_e, c_t, k, theta[i_min])
+    e_max = _extreme(c_e, c_t, k, theta[i_max]) * span
+    e_min = _extreme(c_e, c_t, k, theta[i_min]) * span
     energy = np.maximum(e_max - e_min, np.max(curve, axis=-1) - np.min(curve, axis=-1))
-    inertia = energy / (cf * w * w)
+    with np.errstate(all="ignore"):  # TH2D = 0: the crank does not turn, no flywheel (NaN)
+        inertia = np.where(w != 0.0, energy / (cf * w * w), np.nan)
+    inertia = inertia[()] if np.ndim(inertia) == 0 else inertia
     # the speed with the flywheel on: 1/2 I w^2 = 1/2 I wmax^2 - (E - min E)
     w_max = w * (1.0 + cf / 2.0)
     with np.errstate(all="ignore"):
@@ -125,14 +142,18 @@ def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05) -> Flywheel:
     return Flywheel(cf=float(cf), th2d=w, energy=energy, inertia=inertia,
                     mean_torque=mean, mean_power=mean * w,
                     peak_torque=np.max(np.abs(t), axis=-1),
-                    theta2=np.degrees(theta), torque=t, energy_curve=curve,
+                    theta2=np.degrees(theta) * span, torque=t, energy_curve=curve,
                     flywheel_torque=t - mean[..., None], speed=speed)
 
 
 def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, *,
-             scene: Scene | None = None, **keywords: Any) -> Flywheel:
+             scene: Scene | None = None, cycle: float = 360.0,
+             **keywords: Any) -> Flywheel:
     """The flywheel on the crank shaft of ``mechanism`` for coefficient ``cf``.
 
+    ``cycle`` [deg]: the crank angle the torque repeats over, sampled by ``n`` angles
+    (a whole number of revolutions for a linkage alone; a scene whose TEX or loads
+    depend on more than the position, e.g. an engine's 720-degree cycle, needs more).
     ``scene``: the :class:`~sielaff.Scene` (or ``analyze``'s keywords); the crank speed
     is the steady TH2D, so its ``th2dd`` must be 0.  The mechanism's fields may be arrays (designs).
     Raises ValueError for a linkage whose crank cannot turn fully.
@@ -142,10 +163,10 @@ def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, *,
         raise ValueError("a flywheel is sized at a steady mean speed: th2dd must be 0")
     if not np.all(linkage_class(mechanism).turns_fully):
         raise ValueError("the crank cannot make a whole revolution: no flywheel cycle")
-    theta = np.arange(n) * (360.0 / n)
+    theta = np.arange(n) * (_cycle(cycle) / n)
     fields = np.broadcast(*(np.asarray(v) for v in mechanism.as_tuple()))
     ath2 = theta.reshape((1,) * fields.nd + (n,))
     m = mechanism.replace(**{name: np.asarray(v)[..., None]
                              for name, v in mechanism.as_dict().items()})
     torq = analyze(m, ath2, ["TORQ"], scene=sc)["TORQ"]
-    return flywheel_from_torque(torq, np.asarray(mechanism.TH2D, dtype=float), cf)
+    return flywheel_from_torque(torq, np.asarray(mechanism.TH2D, dtype=float), cf, cycle)

@@ -17,7 +17,7 @@ from sielaff.design.flywheel import Flywheel
 from sielaff.engine.analysis import analyze
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
-from sielaff.quantities import unit
+from sielaff.quantities import fmt, unit, unit_of
 
 __all__ = ["balance_lines", "bearing_lines", "compare", "flywheel_lines"]
 
@@ -34,15 +34,16 @@ def _num(value: float, scale: float, width: int = 11) -> str:
 
 
 def _energy_unit(system: str) -> str:
-    return "in-lb" if system == "in-lb-sec" else "J"
+    return unit_of("work", system)
 
 
-def _power(value: float, system: str) -> str:
+def power_text(value: float, system: str) -> str:
+    """A power [in-lb/sec or W] as printed (with horsepower beside in-lb/sec)."""
     if value == 0.0:
-        return "0 in-lb/sec" if system == "in-lb-sec" else "0 W"
+        return fmt(0, "power", system, ".0f")
     if system == "in-lb-sec":
-        return f"{value:.0f} in-lb/sec = {value / 6600.0:.3g} hp"
-    return f"{value:.0f} W"
+        return f"{fmt(value, 'power', system, '.0f')} = {value / 6600.0:.3g} hp"
+    return fmt(value, "power", system, ".0f")
 
 
 def flywheel_lines(fw: Flywheel, system: str) -> list[str]:
@@ -57,7 +58,7 @@ def flywheel_lines(fw: Flywheel, system: str) -> list[str]:
         f"    flywheel inertia          {float(fw.inertia):11.4g} {i} "
         f"(at the mean speed TH2D = {float(fw.th2d):g} {unit('TH2D', system)})",
         f"    motor's mean torque       {_num(mean, 1.0)} {t}, mean power "
-        + _power(mean * float(fw.th2d), system),
+        + power_text(mean * float(fw.th2d), system),
         f"    peak |TORQ| without it    {float(fw.peak_torque):11.4g} {t} (with it the motor "
         "gives the mean)",
     ]
@@ -98,15 +99,30 @@ ROWS = (
 
 def compare(before: Mechanism, after: Mechanism, n: int = 3600, *,
             scene: Scene | None = None) -> list[tuple[str, str, float, float]]:
-    """(label, unit, before, after) for :data:`ROWS` over one revolution."""
-    th = np.arange(n) * (360.0 / n)
+    """(label, unit, before, after) for :data:`ROWS` over one revolution, or over the arcs
+    where the linkage assembles when its crank cannot turn fully (the toggles, where the
+    rates are infinite, left out)."""
+    import warnings
+
+    from sielaff.engine.analysis import AssemblyWarning
+    from sielaff.engine.classify import linkage_class
+    from sielaff.engine.positions import reachable
+
+    whole = bool(linkage_class(before).turns_fully)
+    th = np.arange(n) * (360.0 / n) if whole else reachable(before, n)
     names = sorted({r[1] for r in ROWS})
-    a, b = analyze(before, th, names, scene=scene), analyze(after, th, names, scene=scene)
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        a, b = analyze(before, th, names, scene=scene), analyze(after, th, names, scene=scene)
+    ok = np.ones(th.shape, bool)
+    for r in (a, b):
+        for name in names:
+            ok &= np.isfinite(r[name])
     out = []
     for label, name, how in ROWS:
         vals = []
         for r in (a, b):
-            v = r[name]
+            v = r[name][ok]
             vals.append(float(np.max(v)) if how == "max" else float(np.max(np.abs(v)))
                         if how == "maxabs" else float(np.sqrt(np.mean(v * v))))
         out.append((label, unit(name, before.units), vals[0], vals[1]))
@@ -128,7 +144,15 @@ def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
         out.append(f"    {k:5} {float(getattr(before, k)):11.5g} -> "
                    f"{float(getattr(after, k)):11.5g} {unit(k, system)}")
     out.append("")
-    out.append("Before and after, over one revolution (modern engine)")
+    from sielaff.engine.classify import linkage_class
+
+    if linkage_class(before).turns_fully:
+        out.append("Before and after, over one revolution (modern engine)")
+    else:
+        out.append("Before and after, over the crank angles where the linkage assembles "
+                   "(modern engine)")
+        out.append("  (toggles included: a crank kept at constant speed drives link 4 into a "
+                   "toggle, where the rates and loads grow without bound)")
     out.append(f"  {'':24} {'before':>11} {'after':>11}")
     for label, u, b, a in compare(before, after, scene=scene):
         out.append(f"  {label:24} {_num(b, b)} {_num(a, b)} {u}")

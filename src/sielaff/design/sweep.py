@@ -33,7 +33,8 @@ from sielaff.design.figures import FIGURES, figures
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 
-__all__ = ["BLOCK", "SWEEPABLE", "Grid", "block", "iter_blocks"]
+__all__ = ["BLOCK", "NO_WORKER_SECONDS", "SWEEPABLE", "ClusterLost", "Grid", "block",
+           "column_units", "iter_blocks", "sweep_frame"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
@@ -100,6 +101,43 @@ def _blocks(size: int, size_of_block: int) -> list[tuple[int, int]]:
     return [(i, min(i + size_of_block, size)) for i in range(0, size, size_of_block)]
 
 
+#: With a dask.distributed client: seconds the cluster may have no worker (or the client
+#: no scheduler) before the sweep stops with :class:`ClusterLost`.
+NO_WORKER_SECONDS = 20.0
+
+
+class ClusterLost(RuntimeError):
+    """The dask.distributed cluster lost its scheduler or its last worker mid-sweep."""
+
+
+def _gather(client: Any, arr: Any, poll: float = 0.5) -> np.ndarray:
+    """``arr`` computed on ``client``'s cluster, watched: a cluster with no worker, or a
+    client that lost its scheduler, for :data:`NO_WORKER_SECONDS` raises ClusterLost
+    (the scheduler itself would wait for a worker for ever)."""
+    import time
+
+    future = client.compute(arr)
+    since = None
+    while True:
+        try:
+            return future.result(timeout=poll)
+        except TimeoutError:
+            pass
+        try:
+            alive = client.status == "running" and bool(client.scheduler_info()["workers"])
+        except Exception:  # noqa: BLE001 (no answer is no worker)
+            alive = False
+        if alive:
+            since = None
+            continue
+        since = time.monotonic() if since is None else since
+        if time.monotonic() - since > NO_WORKER_SECONDS:
+            future.cancel()
+            what = ("the cluster has had no worker" if client.status == "running"
+                    else "the scheduler has not answered")
+            raise ClusterLost(f"{what} for {NO_WORKER_SECONDS:g} s")
+
+
 def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None = None,
                 backend: str = "process", client: Any = None, size_of_block: int = BLOCK,
                 batch: int = 64, workers: int | None = None) -> Iterator[np.ndarray]:
@@ -133,6 +171,35 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None 
                                  dtype=float) for s, e in part]
         arr = da.concatenate(tasks, axis=0)
         if client is not None:
-            yield client.compute(arr).result()
+            yield _gather(client, arr)
         else:
             yield arr.compute(scheduler="threads", num_workers=workers)
+
+
+def column_units(names: list[str], system: str) -> dict[str, str]:
+    """The unit of each column of a sweep (``"-"`` for DESIGN, BALANCE and KIND)."""
+    from sielaff.quantities import unit
+
+    out = {}
+    for n in names:
+        if n in ("DESIGN", "BALANCE", "KIND"):
+            out[n] = "-"
+            continue
+        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
+        out[n] = unit(base, system) if base else "-"
+    return out
+
+
+def sweep_frame(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None = None,
+                **kwargs: Any) -> Any:
+    """The whole sweep as a pandas DataFrame (the ``frames`` extra): one row per design,
+    indexed by DESIGN, the units in ``frame.attrs["units"]`` (``iter_blocks``' keywords
+    choose the backend)."""
+    import pandas as pd
+
+    cols = columns(grid)
+    data = np.concatenate(list(iter_blocks(grid, n, cf, scene, **kwargs)), axis=0)
+    frame = pd.DataFrame(data, columns=cols).set_index("DESIGN")
+    frame.index = frame.index.astype(int)
+    frame.attrs["units"] = column_units(cols, grid.base.units)
+    return frame

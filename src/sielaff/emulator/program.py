@@ -437,8 +437,14 @@ class Program:
                 write(18)
                 sheets += 1
                 if ATH2 > THMAX:                                # IF(ATH2.GT.THMAX)GOTO27
-                    notice("past-thmax", f"THETA 2 = {float(ATH2):g} is past THMAX = "
-                           f"{float(THMAX):g}: the 1966 loop prints a sheet before "
-                           "testing ATH2.GT.THMAX")
+                    a, b = f"{float(ATH2):g}", f"{float(THMAX):g}"
+                    if a == b:  # past by roundoff of TH + I*DELTA: show the digits that differ
+                        a, b = repr(float(ATH2)), repr(float(THMAX))
+                        why = (" (by roundoff: THZERO - DELTA + I*DELTA in binary "
+                               "floating point)")
+                    else:
+                        why = ""
+                    notice("past-thmax", f"THETA 2 = {a} is past THMAX = {b}{why}: the 1966 "
+                           "loop prints a sheet before testing ATH2.GT.THMAX")
                     break
         return sheets                                           # 00237 STOP

@@ -112,7 +112,9 @@ from __future__ import annotations
 from sielaff.engine import forces
 from sielaff.engine.analysis import AssemblyWarning, Request, Results, analyze, plan, prepare
 from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
+from sielaff.engine.elements import Damper, Spring
 from sielaff.engine.fourbar import FOURBAR, INPUTS, KINEMATIC_OUTPUTS, OUTPUTS
+from sielaff.engine.friction import FrictionWarning, PinFriction
 from sielaff.engine.loads import Load
 from sielaff.engine.outputs import RESULTS, VECTORS
 from sielaff.engine.points import point_motion
@@ -139,6 +141,10 @@ __all__ = [
     "KINDS",
     "LinkageClass",
     "Load",
+    "PinFriction",
+    "FrictionWarning",
+    "Spring",
+    "Damper",
     "KINEMATIC_OUTPUTS",
     "OUTPUTS",
     "RESULTS",

@@ -219,8 +219,8 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
         ``ath2``, the mechanism's fields and the scene's arrays; ``not_assembled`` counts
         the positions where the loop cannot close (their results are NaN; an
         :class:`AssemblyWarning` says how many).  TORQ is the total drive torque;
-        ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS`` and ``TORQ_TEX`` are its parts
-        (docs/effects.md).
+        ``TORQ_INERTIA``, ``TORQ_GRAVITY``, ``TORQ_LOADS``, ``TORQ_TEX``,
+        ``TORQ_ELEMENTS`` and ``TORQ_FRICTION`` are its parts (docs/effects.md).
 
     Shapes that do not broadcast are a ValueError naming the fields, and so is a
     mechanism no linkage can have (:func:`sielaff.mechanism.validate`) or a scene value
@@ -352,6 +352,9 @@ def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Result
     if out is not None:
         _check_out(out, th.shape)
     sc = req.scene
+    if sc.friction is not None or sc.elements:
+        raise ValueError("backend='numba' does not model pin friction, springs or dampers: "
+                         "use backend='numpy'")
     table = compiled_results(req.mechanism, th, sc.tex, th2dd=sc.th2dd, gravity=sc.gravity,
                              loads=sc.loads, branch=sc.branch)
     index = {name: i for i, name in enumerate(model.results)}

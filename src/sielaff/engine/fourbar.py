@@ -14,7 +14,9 @@ import numpy as np
 from sielaff.engine import (
     accelerations,
     crank,
+    elements,
     forces,
+    friction,
     gravity,
     inertia,
     loads,
@@ -49,6 +51,8 @@ FOURBAR.add_effect(gravity.EFFECT)
 FOURBAR.add_effect(loads.EFFECT)
 FOURBAR.add_effect(tex.EFFECT)
 FOURBAR.add_effect(crank.EFFECT)
+FOURBAR.add_effect(elements.EFFECT)
+FOURBAR.add_effect(friction.EFFECT)
 
 #: Every name ``analyze`` accepts (of the default model): RESULTS plus the listing's
 #: intermediate quantities (inertia loads FG2X.., TI3, TI4, superposition parts FP34X..,
@@ -63,4 +67,6 @@ KINEMATIC_OUTPUTS = tuple(
 )
 
 #: Inputs seeded into the namespace by the model and its effects (for the 1966 scene).
-INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS")
+INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS",
+                                     "elements", "NELEMENTS", "MUR_O2", "MUR_A", "MUR_B",
+                                     "MUR_O4", "friction_tol", "friction_max_iter")

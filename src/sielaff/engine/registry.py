@@ -106,6 +106,13 @@ class Effect:
     ``parts`` maps a slot of :data:`SLOTS` to the name of the effect's share of that
     superposed quantity (added to the 1966 program's totals); ``torque`` names its
     public share of TORQ, if it has one (taken out of TORQ to leave ``TORQ_INERTIA``).
+
+    An effect that is not superposable (pin friction needs the totals of everything
+    else) instead ``corrects`` totals: ``{total: correction}``.  When it is on (some
+    seed named in ``switch`` is not zero) the model's steps that provide those totals
+    provide ``total + "_0"`` (the totals without it), the effect's steps take those,
+    and a derived step ``_corrections`` adds the corrections; when it is off the plan
+    is the model's without it, step for step.
     """
 
     name: str
@@ -113,8 +120,13 @@ class Effect:
     seed: Callable[[Any, Any], dict[str, Any]]
     parts: Mapping[str, str] = field(default_factory=dict)
     torque: str | None = None
+    corrects: Mapping[str, str] = field(default_factory=dict)
+    switch: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        if self.corrects and not self.switch:
+            raise ValueError(f"effect {self.name}: an effect that corrects totals names "
+                             "the seeds that switch it on (switch=)")
         bad = sorted(set(self.parts) - set(SLOTS))
         if bad:
             raise ValueError(f"effect {self.name}: unknown slots {bad} (slots: {SLOTS})")
@@ -146,6 +158,7 @@ class Model:
         self.effects: list[Effect] = []
         self._own: list[Step] = []
         self.calls: Counter[str] = Counter()
+        self._redo: Callable[[Step], Step] | None = None
         self._derive()
 
     # -- building ------------------------------------------------------------------------
@@ -172,7 +185,8 @@ class Model:
 
     def replacing(self, **fns: Callable[..., Any]) -> Model:
         """A copy whose steps named in ``fns`` run the given functions instead."""
-        unknown = sorted(set(fns) - {s.name for s in self.steps})
+        unknown = sorted(set(fns) - {s.name for s in self.steps}
+                         - {s.name for e in self.effects for s in e.steps})
         if unknown:
             raise ValueError(f"model {self.name} has no step {', '.join(unknown)}")
         return self.mapping(lambda st: fns.get(st.name, st.fn))
@@ -192,39 +206,70 @@ class Model:
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]
+        new._redo = redo
         new._derive()
-        new._derived = [redo(s) for s in new._derived]
-        new._index()
         return new
 
     def _derive(self) -> None:
-        """The steps the effects imply: the sums of their parts, the torque breakdown."""
+        """The steps the effects imply (the sums of their parts, the torque breakdown,
+        the corrections), and the index of who provides what, with every corrective
+        effect off (``steps``, ``provider``) and for each set of them on (``_variant``)."""
+        self._variants: dict[tuple[str, ...], tuple[tuple[Step, ...], dict[str, Step]]] = {}
+        self.steps, self.provider = self._variant(())
+        self._plans: dict[tuple[Any, ...], Plan] = {}
+        names = set(self.provider) | {n for e in self.effects for s in e.steps
+                                      for n in s.provides}
+        self.outputs: tuple[str, ...] = self.results + tuple(sorted(
+            n for n in names if n[0].isupper() and n not in self.results))
+        self.zero_candidates = frozenset(n for e in self.effects for n in e.switch) | \
+            frozenset(n for s in self.steps for n in s.zero_when)
+
+    def _variant(self, active: tuple[str, ...]) -> tuple[tuple[Step, ...], dict[str, Step]]:
+        """The steps and their providers with the corrective effects ``active`` on."""
+        if active in self._variants:
+            return self._variants[active]
+        on = [e for e in self.effects if e.corrects and e.name in active]
+        totals = tuple(dict.fromkeys(t for e in on for t in e.corrects))
+        own = [s if not set(totals) & set(s.provides) else dataclasses_replace(
+            s, provides=tuple(n + "_0" if n in totals else n for n in s.provides))
+            for s in self._own]
         derived: list[Step] = []
         if self.sums:
             derived.append(_sum_step(self.sums, self.effects))
         if self.breakdown:
             name, total = self.breakdown
-            torques = tuple(e.torque for e in self.effects if e.torque)
+            torques = tuple(e.torque for e in self.effects
+                            if e.torque and (not e.corrects or e in on))
             derived.append(Step("_torque_for_inertia", _less(len(torques)), (name,),
                                 (total,) + torques))
-        self._derived = derived
-        self._index()
-
-    def _index(self) -> None:
-        self.steps: tuple[Step, ...] = tuple(self._own) + tuple(
-            s for e in self.effects for s in e.steps) + tuple(self._derived)
+        if totals:
+            corrections = [tuple(e.corrects[t] for e in on if t in e.corrects)
+                           for t in totals]
+            derived.append(_correction_step(totals, corrections))
+        if self._redo is not None:
+            derived = [self._redo(s) for s in derived]
+        # a corrective effect that is off: its outputs are zero, from a stand-in that needs
+        # nothing (its steps need the totals without it, which this variant has not)
+        off = [Step(s.name + "_off", _zeros(len(s.provides)), s.provides, (), (), ((),))
+               for e in self.effects if e.corrects and e not in on for s in e.steps]
+        if self._redo is not None:
+            off = [self._redo(s) for s in off]
+        steps = tuple(own) + tuple(s for e in self.effects if not e.corrects or e in on
+                                   for s in e.steps) + tuple(off) + tuple(derived)
         provider: dict[str, Step] = {}
-        for st in self.steps:
+        for st in steps:
             for name in st.provides:
                 if name in provider:
                     raise ValueError(f"{name} provided twice ({provider[name].name}, "
                                      f"{st.name}) in model {self.name}")
                 provider[name] = st
-        self.provider = provider
-        self._plans: dict[tuple[Any, ...], Plan] = {}
-        self.outputs: tuple[str, ...] = self.results + tuple(sorted(
-            n for n in provider if n[0].isupper() and n not in self.results))
-        self.zero_candidates = frozenset(n for s in self.steps for n in s.zero_when)
+        self._variants[active] = (steps, provider)
+        return steps, provider
+
+    def active(self, zero_seeds: frozenset[str]) -> tuple[str, ...]:
+        """The corrective effects that are on (some seed of their ``switch`` not zero)."""
+        return tuple(e.name for e in self.effects
+                     if e.corrects and not all(n in zero_seeds for n in e.switch))
 
     # -- using ---------------------------------------------------------------------------
 
@@ -268,7 +313,7 @@ class Model:
     def _make_plan(self, wanted: tuple[str, ...], seeded: frozenset[str],
                    zero_seeds: frozenset[str]) -> Plan:
         zero_memo: dict[str, bool] = {}
-        provider = self.provider
+        provider = self._variant(self.active(zero_seeds))[1]
 
         def known_zero(name: str) -> bool:
             if name in seeded:
@@ -362,6 +407,33 @@ def _sum_step(sums: Mapping[str, str], effects: list[Effect]) -> Step:
     # with no part at all the sums are always zero: one empty group, trivially all zero
     groups: tuple[tuple[str, ...], ...] = (needs,)
     return Step("_effects", _effects, provides, needs, needs, groups)
+
+
+def _correction_step(totals: tuple[str, ...],
+                     corrections: list[tuple[str, ...]]) -> Step:
+    """The step adding the corrective effects' corrections to the totals ``t + "_0"``."""
+    needs = tuple(t + "_0" for t in totals) + tuple(
+        dict.fromkeys(c for cs in corrections for c in cs))
+    where = [tuple(needs.index(c) for c in cs) for cs in corrections]
+
+    def _corrections(*values: Any) -> tuple[Any, ...]:
+        out = []
+        for k, idx in enumerate(where):
+            total = values[k]
+            for i in idx:
+                total = plus(total, values[i])
+            out.append(total)
+        return tuple(out)
+
+    return Step("_corrections", _corrections, totals, needs)
+
+
+def _zeros(k: int) -> Callable[..., Any]:
+    def _off() -> Any:
+        """A corrective effect that is off: each of its outputs zero."""
+        return (0.0,) * k if k > 1 else 0.0
+
+    return _off
 
 
 def _less(k: int) -> Callable[..., Any]:

@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.engine.elements import Damper, Spring, check_elements
+from sielaff.engine.friction import PinFriction, check_friction
 from sielaff.engine.loads import Load
 from sielaff.engine.values import LIMIT, check_value
 
@@ -45,6 +47,12 @@ class Scene:
         Forces and torques on links 2-4.
     branch : {"open", "crossed"}
         Which assembly of the loop.
+    friction : None, PinFriction or mapping
+        Coulomb friction in the pins: one :class:`~sielaff.engine.friction.PinFriction`
+        for all four, or ``{"O2": ..., "A": ..., "B": ..., "O4": ...}`` (a pin left out
+        has none).
+    elements : sequence of Spring and Damper
+        Springs and dampers between points of the links and the frame.
     """
 
     tex: Any = 0.0
@@ -52,6 +60,8 @@ class Scene:
     gravity: Any = None
     loads: tuple[Load, ...] = ()
     branch: str = "open"
+    friction: PinFriction | dict[str, PinFriction] | None = None
+    elements: tuple[Spring | Damper, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "tex", _value("tex", self.tex))
@@ -67,6 +77,8 @@ class Scene:
         if self.branch not in BRANCHES:
             raise ValueError(f"Scene.branch = {self.branch!r}: 'open' (the 1966 program's) "
                              "or 'crossed'")
+        object.__setattr__(self, "friction", check_friction(self.friction))
+        object.__setattr__(self, "elements", check_elements(self.elements))
 
     def replace(self, **changes: Any) -> Scene:
         """A copy with some fields changed (validated again)."""
@@ -79,7 +91,15 @@ class Scene:
     def is_1966(self) -> bool:
         """Whether this is the 1966 program's scene (TEX aside): no effect is on."""
         return (not callable(self.th2dd) and not np.any(self.th2dd)
-                and self.gravity is None and not self.loads)
+                and self.gravity is None and not self.loads and not self.has_friction
+                and not self.elements)
+
+    @property
+    def has_friction(self) -> bool:
+        """Whether some pin has friction (mu r > 0)."""
+        f = self.friction
+        pins = [] if f is None else [f] if isinstance(f, PinFriction) else list(f.values())
+        return any(p.mu * p.radius > 0.0 for p in pins)
 
     def per_position(self) -> list[tuple[str, Any]]:
         """The (field, array) pairs that vary with the crank angle (arrays of ndim > 0)."""

@@ -8,6 +8,7 @@
 * :func:`path`          a coupler curve through N points by optimisation (scipy, an
   optional extra)
 * :func:`masses`        the default mass model (uniform steel bars)
+* :func:`rank`          candidates ranked by dynamics under a Scene, with a Pareto front
 
 This layer imports ``design``, the engine, ``quantities`` and ``mechanism``
 (docs/architecture.md).  Each method lives in its own module; this file only gathers
@@ -19,7 +20,8 @@ from sielaff.synthesis.crank_rocker import CrankRocker, CrankRockerFamily, crank
 from sielaff.synthesis.function import FunctionGenerator, function
 from sielaff.synthesis.motion import CouplerLinkage, motion
 from sielaff.synthesis.path import curve_distance, path
+from sielaff.synthesis.rank import Ranking, pareto_front, rank
 
 __all__ = ["CouplerLinkage", "CouplerPoint", "CrankRocker", "CrankRockerFamily",
-           "FunctionGenerator", "Placement", "crank_rocker", "curve_distance", "function",
-           "masses", "motion", "path"]
+           "FunctionGenerator", "Placement", "Ranking", "crank_rocker", "curve_distance",
+           "function", "masses", "motion", "pareto_front", "path", "rank"]

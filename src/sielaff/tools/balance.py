@@ -6,7 +6,13 @@ and after, over one revolution with the spec's scene.  ``-o`` writes the balance
 as a deck (``.dat``, any other name) or a spec (``.toml``, keeping the input spec's
 [scene] and [deck]).  A deck's fields are F8.4: the merged values are rounded to 4
 decimals, which leaves a small shaking force; the residual of the written design is
-printed beside the exact one.
+printed beside the exact balanced design's, and only their difference is called
+rounding: with gravity or loads on, the exact design still shakes the frame with the
+links' weight and the loads.  A spec keeps every value as computed (the shortest decimal
+that reads back as the same double): only a deck has F8.4 fields.
+
+A counterweight radius so far from the link's length that a merged field would pass the
+IBM 1410's range (1E99, as for any deck) is refused in one line naming the option.
 """
 
 from __future__ import annotations
@@ -14,60 +20,136 @@ from __future__ import annotations
 import sys
 from decimal import Decimal
 
+#: Fields a counterweight changes, by the option that places it.
+CHANGED = {"--radius2": ("W2", "ZI2", "RG2", "ADEL2"), "--radius4": ("W4", "ZI4", "RG4", "ADEL4")}
 
-def _rounded(value: float) -> Decimal:
-    return Decimal(repr(float(value))).quantize(Decimal("0.0001"))
+
+def _deck_value(value: float) -> Decimal:
+    """``value`` rounded to the most decimals (4 at most) an F8.4 field holds; a value no
+    field holds is returned unrounded, for the punch to refuse in words."""
+    from sielaff.tools.spec import punch_field
+
+    exact = Decimal(repr(float(value)))
+    if not abs(value) < 1e8:
+        return exact
+    for places in range(4, -1, -1):
+        rounded = exact.quantize(Decimal(1).scaleb(-places))
+        try:
+            punch_field(rounded)
+        except ValueError:
+            continue
+        return rounded
+    return exact
+
+
+def _spec_value(value: float) -> Decimal:
+    """``value`` for a spec: its shortest decimal, a magnitude below 1E-99 as 0."""
+    return Decimal(repr(float(value))) if abs(value) >= 1e-99 else Decimal(0)
+
+
+def _too_large(m, path: str, args) -> None:
+    """Refuse a balanced design with a field past the 1410's range (1E99)."""
+    import math
+
+    from sielaff.quantities import unit
+    from sielaff.tools.common import CommandError
+
+    for option, names in CHANGED.items():
+        for name in names:
+            value = float(getattr(m, name))
+            if not (math.isfinite(value) and abs(value) < 1e99):
+                radius = getattr(args, option[2:])
+                raise CommandError(f"{path}: {option} {radius:g}: the balanced design's {name} "
+                                   f"would be {value:.3g} {unit(name, m.units)}, past the IBM "
+                                   "1410's range (1E99): choose a radius nearer the link's "
+                                   "length")
 
 
 def cmd_balance(args) -> int:
-    import os
 
     import numpy as np
 
     from sielaff.design.balance import balance
     from sielaff.design.report import balance_lines
-    from sielaff.engine.analysis import analyze
     from sielaff.mechanism import FIELD_NAMES
-    from sielaff.quantities import unit
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
     from sielaff.tools.output import atomic_output
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, spec_dict, spec_text
+    from sielaff.tools.spec import (
+        PunchError,
+        punch_deck,
+        read_spec,
+        spec_deck,
+        spec_dict,
+        spec_text,
+    )
 
     path = args.deck
-    refuse_overwriting_inputs(args.output, [path])
-    if args.output and os.path.isdir(args.output):
-        raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
-    deck, scene = load_scene(path, ["SHAK"])
+    refuse_bad_output(args.output, [path])
+    deck, scene = load_scene(path, ["SHAK"], branch=getattr(args, "branch", None),
+                             any_kind=True)
     m = deck.mechanism
     try:
-        balanced = balance(m, args.radius2, args.radius4)
+        with np.errstate(all="ignore"):  # a field past 1E99 is refused just below
+            balanced = balance(m, args.radius2, args.radius4)
     except ValueError as exc:
         raise CommandError(f"{path}: {exc}") from None
+    _too_large(balanced, path, args)
     lines = [f"sielaff balance: {path} (units {m.units})", ""]
-    lines += balance_lines(m, balanced, args.radius2, args.radius4, scene=scene)
+    with np.errstate(all="ignore"):  # a design near 1E99 may overflow a product: nan
+        lines += balance_lines(m, balanced, args.radius2, args.radius4, scene=scene)
     if scene.gravity is not None or scene.loads:
         lines.append("  (the spec's weights and loads still reach the frame: counterweights "
                      "cancel the inertia forces only)")
     if args.output:
-        values = {n: deck.exact.get(n, _rounded(getattr(m, n))) for n in FIELD_NAMES}
-        values.update({n: _rounded(getattr(balanced, n)) for n in
-                       ("W2", "ZI2", "RG2", "ADEL2", "W4", "ZI4", "RG4", "ADEL4")})
+        as_spec = args.output.endswith(".toml")
+        value = _spec_value if as_spec else _deck_value
+        values = {n: deck.exact.get(n, value(getattr(m, n))) for n in FIELD_NAMES}
+        values.update({n: value(getattr(balanced, n)) for names in CHANGED.values()
+                       for n in names})
         base = read_spec(path) if path.endswith(".toml") else {}
         spec = spec_dict(values, deck.exact_ranges, base)
         try:
-            text = (spec_text(spec, f"{path} balanced by sielaff balance (Berkof-Lowen)")
-                    if args.output.endswith(".toml") else punch_deck(spec, path, True))
+            if as_spec:
+                spec_deck(spec, args.output)  # what table and check will read back
+                text = spec_text(spec, f"{path} balanced by sielaff balance (Berkof-Lowen)")
+            else:
+                text = punch_deck(spec, args.output, True)
         except PunchError as exc:
             raise CommandError(f"{args.output}: the balanced design cannot be written: "
                                f"{exc}") from None
         written = m.replace(**{n: float(values[n]) for n in FIELD_NAMES})
-        th = np.arange(3600) * 0.1
-        before = float(np.max(analyze(m, th, ["SHAK"], scene=scene)["SHAK"]))
-        after = float(np.max(analyze(written, th, ["SHAK"], scene=scene)["SHAK"]))
-        lines += ["", f"Written to {args.output} with its fields to 4 decimals (F8.4): "
-                  f"residual peak shaking force {after:.3g} {unit('SHAK', m.units)} "
-                  f"({100.0 * after / before:.2g}% of the unbalanced {before:.4g})"]
+        lines += ["", _written_line(args.output, as_spec, m, balanced, written, scene)]
         with atomic_output(args.output) as out:
             out.write(text)
     sys.stdout.write("\n".join(lines) + "\n")
     return 0
+
+
+def _written_line(path: str, as_spec: bool, m, exact, written, scene) -> str:
+    """The written design's residual shaking force, beside the exact balanced design's:
+    only their difference is rounding (gravity and loads shake the frame in both)."""
+    import numpy as np
+
+    from sielaff.engine.analysis import analyze
+    from sielaff.quantities import fmt
+
+    th = np.arange(3600) * 0.1
+    with np.errstate(all="ignore"):  # a linkage that cannot turn fully: where it assembles
+        peak = {name: float(np.nanmax(np.where(np.isfinite(v), v, np.nan)))
+                for name, d in (("before", m), ("exact", exact), ("written", written))
+                for v in [analyze(d, th, ["SHAK"], scene=scene)["SHAK"]]}
+    f = "SHAK"
+    how = ("every value as computed" if as_spec else
+           "its fields rounded to fit F8.4 (4 decimals at most)")
+    text = (f"Written to {path} with {how}: residual peak shaking force "
+            f"{fmt(peak['written'], f, m.units, '.3g')} "
+            f"({100.0 * peak['written'] / peak['before']:.2g}% of the unbalanced "
+            f"{peak['before']:.4g}); the exact balanced design's is "
+            f"{fmt(peak['exact'], f, m.units, '.3g')}")
+    if not as_spec:
+        rounding = abs(peak["written"] - peak["exact"])
+        text += f", so rounding to F8.4 accounts for {fmt(rounding, f, m.units, '.2g')}"
+    if scene.gravity is not None or scene.loads:
+        text += ("; the rest is the links' weight and the loads, which no counterweight "
+                 "cancels (not a rounding residual)")
+    return text

@@ -32,6 +32,8 @@ One revolution (modern engine, TEX = 0)
 Exit status: 0 usable, 2 unusable (a deck that does not read, an endless
 range, 1966 arithmetic that fails), 3 not a crank-rocker; the reason is one
 line on stderr.
+
+The module reads better whole: the report's sections follow in the order they print.
 """
 
 from __future__ import annotations
@@ -43,12 +45,13 @@ from decimal import Decimal
 
 import numpy as np
 
+from sielaff.design.report import power_text
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
-from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism, crank_rocker_failure
-from sielaff.quantities import unit
+from sielaff.quantities import fmt, unit, unit_of
 from sielaff.tools.common import describe_scene, work_text
 
 __all__ = [
@@ -274,7 +277,8 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
     rep.add("Linkage")
     links = sorted(("R1", "R2", "R3", "R4"), key=lambda n: getattr(m, n))
     s, p, q, lng = (getattr(m, n) for n in links)
-    rep.add("  lengths: " + ", ".join(f"{LINK_NAMES[n]} {n} = {_plain(getattr(m, n))} in"
+    L = unit_of("length", m.units)  # noqa: N806
+    rep.add("  lengths: " + ", ".join(f"{LINK_NAMES[n]} {n} = {_plain(getattr(m, n))} {L}"
                                       for n in ("R1", "R2", "R3", "R4")))
     sl, pq = s + lng, p + q
     if sl < pq:
@@ -283,8 +287,8 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
         verdict, cmp = "not Grashof: no link turns fully (a triple rocker)", ">"
     else:
         verdict, cmp = "a change-point linkage: all four links can line up", "="
-    rep.add(f"  Grashof sum: s + l = {_plain(s)} + {_plain(lng)} = {_plain(sl)} in {cmp} "
-            f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} in (margin {_plain(pq - sl)} in)")
+    rep.add(f"  Grashof sum: s + l = {_plain(s)} + {_plain(lng)} = {_plain(sl)} {L} {cmp} "
+            f"p + q = {_plain(p)} + {_plain(q)} = {_plain(pq)} {L} (margin {_plain(pq - sl)} {L})")
     rep.add(f"    {verdict}")
     shortest = [n for n in links if getattr(m, n) == s]
     names = " and ".join(f"{LINK_NAMES[n]} {n}" for n in shortest)
@@ -293,9 +297,9 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
               "double-rocker": "a double rocker", "rocker-crank":
               "a rocker-crank (link 4 turns fully)"}.get(c.kind)
     if phrase and len(shortest) == 1:
-        rep.add(f"  shortest link: {names} = {_plain(s)} in, so {phrase}")
+        rep.add(f"  shortest link: {names} = {_plain(s)} {L}, so {phrase}")
     else:
-        rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} in")
+        rep.add(f"  shortest link{'s' if len(shortest) > 1 else ''}: {names} = {_plain(s)} {L}")
     if c.kind != "crank-rocker":
         rep.add(f"  kind: {c.kind} (link 2 the input, link 1 the frame; sielaff.linkage_class)")
         for a, b in ([] if c.turns_fully else c.arcs):
@@ -372,20 +376,17 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
     rep.add("  driving torque TORQ:")
     rep.add(f"    largest       {t_max:9.1f} {U['in-lb']} at THETA 2 = {at_max:5.1f} deg")
     rep.add(f"    most negative {t_min:9.1f} {U['in-lb']} at THETA 2 = {at_min:5.1f} deg")
-    power = peak * abs(m.TH2D)
-    if U["lb"] == "lb":
-        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} in-lb/sec = {power / 6600.0:.3g} hp")
-    else:
-        rep.add(f"    peak power |TORQ| TH2D = {power:.0f} W")
+    rep.add(f"    peak power |TORQ| TH2D = {power_text(peak * abs(m.TH2D), system)}")
     work, abs_work = cycle_work(m, scene=scene)
     ok = abs(work) <= 1e-6 * max(abs_work, 1.0)
     rep.add("  cycle work, integral of TORQ d(THETA 2) over a revolution: "
-            + work_text(work, abs_work))
+            + work_text(work, abs_work, system))
     if effects:
-        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): the work the scene's "
+        rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): the work "
+                "the scene's "
                 "loads and crank acceleration take (gravity's is zero)")
     else:
-        rep.add(f"    (integral of |TORQ|: {abs_work:.1f} {U['in-lb']}): "
+        rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): "
                 + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
     at, shak = _extreme(m, "SHAK", scene=scene)
     _, sx = _extreme(m, "SHAKX", scene=scene)
@@ -409,7 +410,9 @@ def _design_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) 
     from sielaff.design.report import bearing_lines, flywheel_lines
 
     scene = scene or Scene()
-    if not callable(scene.th2dd) and not np.any(scene.th2dd):
+    if m.TH2D == 0.0:
+        rep.add("  flywheel: not sized (TH2D = 0: the crank does not turn)")
+    elif not callable(scene.th2dd) and not np.any(scene.th2dd):
         for line in flywheel_lines(flywheel(m, scene=scene), m.units):
             rep.add(line)
     else:
@@ -516,9 +519,41 @@ def _run_port(deck: Deck, sheets: list[RangeSheets], quirks: list[str],
     return reason
 
 
+def _kind_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) -> None:
+    """A linkage whose crank cannot turn fully: its toggles, the arcs it swings over, the
+    limit positions there, and the transmission angle over those arcs."""
+    import warnings
+
+    from sielaff.engine import analyze
+    from sielaff.engine.analysis import AssemblyWarning
+    from sielaff.engine.positions import reachable
+
+    scene = scene or Scene()
+    c = linkage_class(m)
+    rep.add(f"Over the arcs where it assembles (modern engine, the {scene.branch} branch)")
+    toggles = [float(t) for t in np.ravel(c.toggles) if np.isfinite(t)]
+    rep.add("  toggles (coupler and rocker in line) at THETA 2 = "
+            + ", ".join(f"{t:.2f}" for t in toggles) + " deg")
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        r = analyze(m, np.array(toggles), ["ATH3", "ATH4"], scene=scene)
+        for t, th3, th4 in zip(toggles, r["ATH3"], r["ATH4"]):
+            rep.add(f"    limit position at THETA 2 = {t:7.2f} deg: THETA 3 = {th3:7.2f} deg, "
+                    f"THETA 4 = {th4:7.2f} deg")
+        th = reachable(m, 3601)
+        g = analyze(m, th, ["GAMMA"], scene=scene)["GAMMA"]
+    g = g[np.isfinite(g)]
+    if g.size:
+        rep.add(f"  transmission angle GAMMA over the arcs: {g.min():.2f} to {g.max():.2f} deg "
+                "(0 or 180 at a toggle)")
+    rep.add("  loads: a crank kept at constant speed drives link 4 into each toggle, where the "
+            "rates and loads grow without bound; sielaff table and plot show them over the arcs")
+
+
 def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
-               scene: Scene | None = None) -> CheckReport:
-    """The report for ``deck`` (see the module doc)."""
+               scene: Scene | None = None, crank_rocker: bool = False) -> CheckReport:
+    """The report for ``deck`` (see the module doc).  A usable linkage of another kind
+    gets its kind's report and status 0, unless ``crank_rocker`` requires one (3)."""
     from sielaff.tools.common import mechanism_problem, results_problem
 
     rep = CheckReport()
@@ -537,7 +572,11 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
     failure = _linkage_section(deck.mechanism, rep, deck.exact)
     rep.add()
     overflow = None
-    if failure is None:
+    other = failure is not None and not crank_rocker and linkage_class(deck.mechanism).arcs
+    if other and not linkage_class(deck.mechanism).turns_fully:
+        _kind_section(deck.mechanism, rep, scene)
+        rep.add()
+    if failure is None or (other and linkage_class(deck.mechanism).turns_fully):
         overflow = results_problem(deck, None, scene)
         if overflow is None:
             _revolution_section(deck.mechanism, rep, scene)
@@ -545,7 +584,16 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
-    if failure is not None:
+    if other and overflow is None:
+        kind = linkage_class(deck.mechanism).kind
+        rep.add(f"Verdict: usable as a {kind} in the modern tools (check, table, plot, balance, "
+                "sweep); not a crank-rocker, so sielaff run stops at statement 52 as the 1966 "
+                "program does (exit 3 there, and here with --crank-rocker)")
+    elif failure is not None and not other and not crank_rocker:
+        rep.status = EXIT_UNUSABLE
+        rep.error = f"{deck.path}: card 3: the loop never closes: no crank angle assembles it"
+        rep.add("Verdict: unusable: no crank angle assembles this linkage (exit 2)")
+    elif failure is not None:
         rep.status = EXIT_NOT_CRANK_ROCKER
         rep.error = str(problem)
         if _program_test_passes(deck.mechanism):
@@ -589,10 +637,51 @@ def cmd_check(args) -> int:
         raise CommandError(f"{args.deck}: no such deck")
     if args.deck.endswith(".toml"):  # a spec: its deck, and its scene for the engine
         deck, scene = read_spec_deck(args.deck)
-        rep = check_deck(deck, scene=scene)
     else:
-        rep = check_deck(read_deck(args.deck))
-    write_stdout(rep.text)  # a closed pipe keeps the status and the error line
+        deck, scene = read_deck(args.deck), Scene()
+    if getattr(args, "branch", None):
+        import dataclasses
+
+        scene = dataclasses.replace(scene, branch=args.branch)
+    rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False))
+    text = rep.text if getattr(args, "format", "text") == "text" else report_json(deck, rep)
+    output = getattr(args, "output", None)
+    if output not in (None, "-"):
+        from sielaff.tools.common import refuse_overwriting_inputs
+        from sielaff.tools.output import atomic_output
+
+        refuse_overwriting_inputs(output, [args.deck])
+        with atomic_output(output) as out:
+            out.write(text)
+    else:
+        write_stdout(text)  # a closed pipe keeps the status and the error line
     if rep.error:
         print(rep.error, file=sys.stderr)
     return rep.status
+
+
+def report_json(deck: Deck, rep: CheckReport) -> str:
+    """The report as JSON: the linkage's kind and what decides it (lengths in the deck's
+    unit, angles in degrees), the status and error, and the report's lines."""
+    import json
+
+    m = deck.mechanism
+    try:
+        with np.errstate(all="ignore"):
+            c = linkage_class(m)
+    except (ValueError, ArithmeticError):  # fields no linkage has: the report says why
+        c = None
+
+    def finite(values) -> list[float]:
+        return [float(v) for v in np.ravel(values) if np.isfinite(v)]
+
+    data: dict = {"path": str(deck.path), "units": m.units,
+                  "length_unit": unit_of("length", m.units)}
+    if c is not None and rep.status != EXIT_UNUSABLE:
+        data.update({
+            "kind": c.kind, "grashof_sum": float(c.grashof_sum),
+            "grashof_margin": float(c.grashof_margin), "turns_fully": bool(c.turns_fully),
+            "toggles_deg": finite(c.toggles),
+            "arcs_deg": [[float(a), float(b)] for a, b in (c.arcs or [])]})
+    data.update({"status": rep.status, "error": rep.error, "report": rep.lines})
+    return json.dumps(data, indent=1) + "\n"

@@ -39,16 +39,48 @@ class Terminated(BaseException):
         self.name = signal.Signals(signum).name
 
 
+#: ``process``: main runs as the ``sielaff`` process (not called in-process by a test);
+#: ``finished``: its command has ended and said so, so a late signal changes nothing.
+SIGNAL_STATE = {"process": False, "finished": False}
+
+
 def _raise_terminated(signum, _frame) -> None:
+    from sielaff.tools import output
+
+    if SIGNAL_STATE["finished"]:  # the command is done: nothing is left to protect
+        return
+    if output.deferring():  # outputs are being renamed into place: act when they are
+        output.defer(signum)
+        return
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise Terminated(signum)
 
 
-def install_signal_handlers() -> None:
+def install_signal_handlers(process: bool = False) -> None:
     """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
-    every output written whole or not at all, the temporary file removed."""
-    for name in ("SIGTERM", "SIGHUP"):
+    every output written whole or not at all, the temporary file removed.  They wait
+    while a set of outputs is being renamed into place (``sielaff.tools.output``), and
+    so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
+    keep Python's own Ctrl-C)."""
+    SIGNAL_STATE.update(process=process, finished=False)
+    for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
+            if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
+                                     signal.default_int_handler):
+                continue  # Ctrl-C ignored by the parent (nohup, a background job): keep it
             signal.signal(getattr(signal, name), _raise_terminated)
+
+
+def finish_signals() -> None:
+    """The ``sielaff`` process's command has ended and said so: from now on a signal is
+    ignored (Python restores the default handlers as it exits, and a SIGTERM then would
+    end the process silently with a status that says nothing was done)."""
+    if SIGNAL_STATE["process"]:
+        SIGNAL_STATE["finished"] = True
+        for name in ("SIGTERM", "SIGHUP", "SIGINT"):
+            if hasattr(signal, name):
+                signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
 # -- output -------------------------------------------------------------------------
@@ -66,6 +98,14 @@ def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None
         if same:
             raise CommandError(f"sielaff: -o {output} is the input {path}: refusing to "
                                "overwrite it (choose another output file)")
+
+
+def refuse_bad_output(output: str | None, inputs: Iterable[str]) -> None:
+    """Refuse, before any work, an ``-o`` that is one of the inputs or a folder (every
+    command that writes one file per option asks this one place)."""
+    refuse_overwriting_inputs(output, inputs)
+    if output and os.path.isdir(output):
+        raise CommandError(f"sielaff: {output} is a folder: name the file to write")
 
 
 def write_stdout(text: str) -> bool:
@@ -192,39 +232,81 @@ def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
     import dataclasses
 
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+    from sielaff.tools.spec import PunchError, read_spec, scene_of, spec_deck
 
     if not os.path.lexists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
         units, scene = scene_of(spec, path)
-        deck = parse_deck(punch_deck(spec, path, any_units=True), path)
+        deck = spec_deck(spec, path)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
 
 
-def load_scene(path: str, outputs=None, any_linkage: bool = False) -> tuple[Deck, Scene]:
+def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
+               any_kind: bool = False) -> tuple[Deck, Scene]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
     (the deck, its Scene).  Checked as ``load_for_engine``
     says, with the scene's effects in the results; with ``any_linkage`` any four-bar
-    whose fields can exist (the crank-rocker test and the ranges do not apply)."""
+    whose fields can exist (the crank-rocker test and the ranges do not apply).
+    ``branch`` ("open" or "crossed") overrides the spec's ``[scene] branch``.  With
+    ``any_kind`` every Grashof kind and a triple rocker are taken, not only a
+    crank-rocker: a linkage whose crank cannot turn fully is worked over the arcs where
+    it assembles, and stderr says which (:func:`kind_note`)."""
+    import dataclasses
+
     if path.endswith(".toml"):
         deck, scene = read_spec_deck(path)
     else:
         deck, scene = load_deck(path), no_scene()
+    if branch is not None:
+        scene = dataclasses.replace(scene, branch=branch)
     if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
         problem = mechanism_problem(deck)
         if problem is not None and problem.status == EXIT_DECK:
             raise problem
         return deck, scene
-    problem = (mechanism_problem(deck) or range_problem(deck)
+    problem = mechanism_problem(deck)
+    if any_kind and problem is not None and problem.status == EXIT_NOT_CRANK_ROCKER:
+        note = kind_note(deck)
+        if note is None:
+            raise CommandError(f"{deck.path}: card 3: the loop never closes: no crank angle "
+                               "assembles this linkage")
+        print(f"sielaff: {note}", file=sys.stderr)
+        from sielaff.engine.classify import linkage_class
+
+        if not linkage_class(deck.mechanism).turns_fully:
+            import warnings
+
+            from sielaff.engine.analysis import AssemblyWarning
+
+            # the note above says where it assembles: no warning per sampled position
+            warnings.filterwarnings("ignore", category=AssemblyWarning)
+            return deck, scene  # the rates are infinite at the toggles: nothing to bound
+        problem = None
+    problem = (problem or range_problem(deck)
                or results_problem(deck, outputs, scene))
     if problem is not None:
         raise problem
     return deck, scene
+
+
+def kind_note(deck: Deck) -> str | None:
+    """One line for a linkage that is not a crank-rocker: its kind and the arcs of THETA 2
+    worked over; None if no crank angle assembles it."""
+    from sielaff.engine.classify import linkage_class
+
+    c = linkage_class(deck.mechanism)
+    if not c.arcs:
+        return None
+    if c.turns_fully:
+        return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 turns fully "
+                "(sielaff run refuses it, as the 1966 program does)")
+    arcs = ", ".join(f"{a:.2f} to {b:.2f}" for a, b in c.arcs)
+    return (f"{deck.path}: a {c.kind}, not a crank-rocker: link 2 swings between toggles "
+            f"over THETA 2 = {arcs} deg; positions outside are left out")
 
 
 def not_a_crank_rocker(deck: Deck) -> str | None:
@@ -267,13 +349,15 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
 
 
-def work_text(work: float, abs_work: float) -> str:
+def work_text(work: float, abs_work: float, units: str = "in-lb-sec") -> str:
     """The cycle work as a reader should see it: roundoff is shown as zero, with its bound,
     so the text does not depend on the last bits of a CPU's libm."""
+    from sielaff.quantities import fmt, unit_of
+
     bound = 1e-12 * max(abs_work, 1.0)
     if abs(work) <= bound:
-        return f"0 in-lb to roundoff (|W| < {bound:.0e} in-lb)"
-    return f"{work:.3g} in-lb"
+        return f"0 {unit_of('work', units)} to roundoff (|W| < {fmt(bound, 'work', units, '.0e')})"
+    return fmt(work, "work", units, ".3g")
 
 
 def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:

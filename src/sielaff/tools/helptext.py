@@ -20,10 +20,12 @@ exit status (every command):
        names the card and columns, or the field), a range that never ends, a
        program deck past the interpreter's limits (docs/robustness.md), an
        output file that cannot be written
-  3    not a crank-rocker (run and run --program print the 1966 message; table,
-       check, plot refuse)
-  130  interrupted (Ctrl-C); no output file was changed
-  143  ended by SIGTERM (timeout, kill); 129 by SIGHUP: no output file was changed"""
+  3    not a crank-rocker where one is required: run and run --program (the
+       1966 program's test; they print its message) and check --crank-rocker
+  130  interrupted (Ctrl-C); no output file was changed (a signal that comes
+       while a set of outputs is renamed into place waits for it; the message
+       then names the files written)
+  143  ended by SIGTERM (timeout, kill); 129 by SIGHUP: as for Ctrl-C"""
 
 #: The report's example deck, as decks/example.dat has it (a test checks they agree).
 EXAMPLE_CARDS = """\

@@ -14,6 +14,8 @@ it reads the same offline in any browser and prints to PDF from it.  It holds:
 * the report's figures (driving torque, the polar diagrams of the bearing forces and of
   the shaking force) and the bearing picture;
 * the balancing answer (Berkof-Lowen counterweights and what they cost);
+* for a spec with a ``[sweep]``: the Pareto front of its two figures as a table, and the
+  Pareto picture;
 * a footer with the version and the command that made the page.
 
 This command composes the others' pages (check, plot, balance): it is the one command
@@ -127,6 +129,54 @@ def _peaks_table(rows: list[tuple[str, float, str, float]]) -> str:
     return "\n".join(out)
 
 
+#: A sweep larger than this is summarised by ``sielaff sweep``, not run for a page.
+SWEEP_LIMIT = 20_000
+#: Rows of the Pareto front shown.
+FRONT_ROWS = 15
+
+
+def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
+    """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
+    beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
+    from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
+    from sielaff.tools.spec import read_spec, sweep_of
+    from sielaff.tools.sweep import _pareto, _plot
+
+    if not path.endswith(".toml"):
+        return []
+    spec = read_spec(path)
+    if "sweep" not in spec:
+        return []
+    sw = sweep_of(spec, path)
+    grid = Grid(deck.mechanism, sw["axes"])
+    out = ["<h2>The sweep</h2>"]
+    if grid.size > SWEEP_LIMIT:
+        return out + [f"<p>{grid.size:,} designs: more than a page runs "
+                      f"({SWEEP_LIMIT:,}); <code>sielaff sweep</code> evaluates them.</p>"]
+    cols = columns(grid)
+    data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
+    px, py = sw["pareto"]
+    x, y = data[:, cols.index(px)], data[:, cols.index(py)]
+    front = _pareto(x, y)
+    units = column_units(cols, deck.mechanism.units)
+    shown = ["DESIGN", *grid.names, px, py]
+    out.append(f"<p>{grid.size:,} designs ({' x '.join(str(n) for n in grid.shape)}: "
+               f"{html.escape(', '.join(grid.names))}); the Pareto front of {px} and {py} "
+               f"(both minimised) has {len(front)} designs; the first "
+               f"{min(len(front), FRONT_ROWS)} by {px}:</p>")
+    rows = ["<table><tr>" + "".join(
+        f"<th>{html.escape(c)}" + (f" [{html.escape(units[c])}]" if units[c] != "-" else "")
+        + "</th>" for c in shown) + "</tr>"]
+    for i in front[:FRONT_ROWS]:
+        rows.append("<tr>" + "".join(f"<td>{data[i, cols.index(c)]:.5g}</td>" for c in shown)
+                    + "</tr>")
+    rows.append("</table>")
+    buf = io.BytesIO()
+    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size)
+    return out + rows + [_figure(buf.getvalue(), "image/png",
+                                 f"The sweep's designs and the Pareto front of {px} and {py}")]
+
+
 def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str:
     """The whole page for ``deck`` in ``scene`` (see the module doc)."""
     from sielaff.design.balance import balance
@@ -194,6 +244,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
             lines = [f"not balanced: {exc}"]
         parts.append("<h2>Balancing</h2>")
         parts.append(f"<pre>{html.escape(chr(10).join(lines))}</pre>")
+    parts += sweep_section(deck.path, deck, scene)
     parts.append(f"<footer>Made by sielaff {html.escape(__version__)} with "
                  f"<code>{html.escape(command)}</code>.</footer>")
     parts += ["</body>", "</html>", ""]
@@ -202,7 +253,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
 
 def cmd_report(args: Any) -> int:
     """``sielaff report DECK|SPEC -o FILE.html`` (``-o -``: stdout)."""
-    from sielaff.tools.common import CommandError, load_scene, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
     from sielaff.tools.output import atomic_output
 
     try:
@@ -211,9 +262,7 @@ def cmd_report(args: Any) -> int:
         raise CommandError("sielaff: report needs matplotlib: pip install -e \".[plot]\"") \
             from None
     if args.output != "-":
-        refuse_overwriting_inputs(args.output, [args.deck])
-        if os.path.isdir(args.output):
-            raise CommandError(f"sielaff: {args.output} is a folder: name the file to write")
+        refuse_bad_output(args.output, [args.deck])
     deck, scene = load_scene(args.deck, any_linkage=True)
     if args.branch:
         scene = scene.replace(branch=args.branch)

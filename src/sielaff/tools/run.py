@@ -25,6 +25,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     from sielaff.tools.output import atomic_output
     from sielaff.tools.progress import run_progress
 
+    if args.port and args.arith != "float64":
+        raise CommandError(f"sielaff: --port with --arith {args.arith}: --port is float64 "
+                           "only (every other arithmetic runs on the port already)")
     refuse_overwriting_inputs(args.output, [args.deck] + ([args.program] if args.program
                                                            else []))
     deck = load_runnable(args.deck, args.arith, args.max_sheets)
@@ -36,10 +39,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         stream = AsaRenderer(out) if args.render else out
         try:
             with bar:
-                run(deck, stream, arithmetic=args.arith, notice=notice,
+                printed = run(deck, stream, arithmetic=args.arith, notice=notice,
                     kinematics_only=args.kinematics_only or args.only == "kinematics",
                     max_sheets=args.max_sheets, progress=bar, tex=args.tex,
                     vectorised=not args.port, binary=None if args.render else _bytes_under(out))
+            if args.max_sheets is not None and _asks_more(deck, printed, args.arith):
+                # the many-sheets path stops without the port's SheetLimit: say it the same
+                print(f"sielaff: warning: stopped after {printed} sheets (--max-sheets); "
+                      "the deck asks for more", file=sys.stderr)
         except NotCrankRocker as exc:
             # The listing holds the 1966 message; an -o file is left as it was (exit 3).
             if args.render:
@@ -60,6 +67,24 @@ def cmd_run(args: argparse.Namespace) -> int:
                f"by roundoff in {args.arith} arithmetic, so forces near the toggle are "
                "meaningless")
     return 0
+
+
+def _asks_more(deck, printed, arithmetic) -> bool:
+    """Whether the deck's range cards ask for more sheets than ``printed`` (an endless
+    range asks for more)."""
+    from sielaff.emulator.ranges import sheet_count
+
+    if not isinstance(printed, int):
+        return False
+    total = 0
+    for r in deck.ranges:
+        n = sheet_count(*r, arithmetic)
+        if n is None:
+            return True
+        total += n
+        if total > printed:
+            return True
+    return False
 
 
 def _bytes_under(stream) -> BinaryIO | None:

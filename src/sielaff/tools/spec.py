@@ -66,13 +66,14 @@ import tomllib
 from decimal import Decimal
 from typing import TYPE_CHECKING
 
-from sielaff.emulator.cards import read_field_decimal
+from sielaff.emulator.cards import Deck, Range, read_field_decimal
 from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
 
 if TYPE_CHECKING:
     from sielaff.engine.scene import Scene
 
-__all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "spec_values"]
+__all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "spec_deck", "spec_number",
+           "spec_values"]
 
 from sielaff.tools.errors import EXIT_DECK as EXIT_SPEC  # noqa: E402
 from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER  # noqa: E402
@@ -168,10 +169,46 @@ def punch_field(value: Decimal | int | str) -> str:
 # --------------------------------------------------------------------------
 
 
-def _number(where: str, value) -> Decimal:
+#: Every number a spec gives is bounded before any arithmetic: finite, at most
+#: :data:`MAX_DIGITS` significant digits (the decimal module's default precision, so no
+#: step rounds one silently), and 0 or of magnitude from 1E-99 to below 1E99 (the IBM
+#: 1410's range, as for a deck's fields).
+MAX_DIGITS = 28
+MAX_EXPONENT = 98
+#: A spec file is read up to this many bytes; a longer one (or /dev/zero) is refused.
+MAX_SPEC_BYTES = 1 << 20
+
+
+def _shown(d: Decimal) -> str:
+    text = str(d)
+    return text if len(text) <= 40 else f"{text[:20]}...({len(text)} characters)"
+
+
+def spec_number(where: str, value) -> Decimal:
+    """``value`` (an int or a Decimal from the TOML) as a Decimal, checked as
+    :data:`MAX_DIGITS` and :data:`MAX_EXPONENT` say; PunchError naming ``where`` if not.
+    Only integer operations on the digits are used here, so nothing can overflow."""
     if isinstance(value, bool) or not isinstance(value, int | Decimal):
         raise PunchError(f"{where} = {value!r}: not a number")
-    return Decimal(value)
+    d = Decimal(value)
+    if not d.is_finite():
+        raise PunchError(f"{where} = {d}: {d} is not a finite number")
+    if not d:
+        return Decimal(0) if d.is_signed() else d
+    sign, digits, exponent = d.as_tuple()
+    zeros = len(digits) - len(bytes(digits).rstrip(b"\0"))
+    significant = len(digits) - zeros
+    adjusted = d.adjusted()
+    if not -MAX_EXPONENT - 1 <= adjusted <= MAX_EXPONENT:
+        raise PunchError(f"{where} = {_shown(d)}: out of range (a spec number is 0 or of "
+                         "magnitude from 1E-99 to below 1E99)")
+    if significant > MAX_DIGITS:
+        raise PunchError(f"{where} = {_shown(d)}: {significant} significant digits; a spec "
+                         f"number has at most {MAX_DIGITS} (a double holds about 17)")
+    return d
+
+
+_number = spec_number
 
 
 def _table(where: str, value) -> dict:
@@ -197,7 +234,7 @@ def spec_values(spec: dict, path: str = "<spec>"
         keys = sections.setdefault(section, [])
         if key not in keys:
             keys.append(key)
-    _unknown(path, spec, [*sections, "range", "deck", "scene", "sweep"])
+    _unknown(path, spec, [*sections, "range", "deck", "scene", "sweep", "motor"])
     values: dict[str, Decimal] = {}
     for section, keys in sections.items():
         if section not in spec:
@@ -252,8 +289,9 @@ def _where(path: str, name: str) -> str:
 
 def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str:
     """The deck (text, one 80-column card a line) for a parsed spec.  A spec in SI is
-    refused (a 1966 deck is in in-lb-sec) unless ``any_units``: the modern tools read
-    the values through the deck and keep the spec's unit system beside it."""
+    refused (a 1966 deck is in in-lb-sec), and so is a linkage that is not a
+    crank-rocker, unless ``any_units``: the modern tools read the values through the deck,
+    keep the spec's unit system beside it and judge the linkage's kind themselves."""
     values, ranges, prefix = spec_values(spec, path)
     scene = spec.get("scene")
     if not any_units and isinstance(scene, dict) and scene.get("units", "in-lb-sec") != \
@@ -275,15 +313,7 @@ def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str
             except ValueError as err:
                 raise PunchError(f"{path}: [[range]] {n} {key} = {value}: {err}") from None
         range_fields.append(row)
-    mechanism = Mechanism(**{n: float(values[n]) + 0.0 for n in FIELD_NAMES})
-    failure = crank_rocker_failure(mechanism)
-    if failure:
-        raise PunchError(f"{path}: [lengths]: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
-                         EXIT_NOT_CRANK_ROCKER)
-    for n, (start, step, stop) in enumerate(ranges, 1):
-        if float(step) <= 0 and float(start) <= float(stop):
-            raise PunchError(f"{path}: [[range]] {n}: step = {step} with start = {start} <= "
-                             f"stop = {stop}: the 1966 loop would never end")
+    _check_design(values, ranges, path)
     rows = [[fields[n] for n in card] for card in CARDS] + range_fields
     lines = []
     for k, row in enumerate(rows, 1):
@@ -299,6 +329,36 @@ def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str
     return "\n".join(lines) + "\n"
 
 
+def _check_design(values: dict[str, Decimal], ranges, path: str,
+                  any_kind: bool = False) -> Mechanism:
+    """The spec's mechanism; PunchError if it is not a crank-rocker (exit 3; with
+    ``any_kind`` the modern tools judge the kind themselves) or a range would never end."""
+    mechanism = Mechanism(**{n: float(values[n]) + 0.0 for n in FIELD_NAMES})
+    failure = crank_rocker_failure(mechanism)
+    if failure and not any_kind:
+        raise PunchError(f"{path}: [lengths]: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
+                         EXIT_NOT_CRANK_ROCKER)
+    for n, (start, step, stop) in enumerate(ranges, 1):
+        if step <= 0 and start <= stop:
+            raise PunchError(f"{path}: [[range]] {n}: step = {step} with start = {start} <= "
+                             f"stop = {stop}: the 1966 loop would never end")
+    return mechanism
+
+
+def spec_deck(spec: dict, path: str = "<spec>") -> Deck:
+    """The deck a parsed spec describes, for the modern tools (``table``, ``check``,
+    ``plot``, ``sweep``, ``balance``): its values exactly as written (any of
+    :func:`spec_number`'s numbers, no F8.4 field to fit: only ``punch`` makes cards),
+    the range cards numbered 7, 8, ... as a punched deck's would be.  Checked as
+    :func:`punch_deck` checks (ranges that end), but of any kind: the tools take every
+    four-bar and say which it is (:func:`sielaff.tools.common.load_scene`)."""
+    values, ranges, _ = spec_values(spec, path)
+    mechanism = _check_design(values, ranges, path, any_kind=True)
+    return Deck(mechanism, [Range(*(float(x) + 0.0 for x in r)) for r in ranges],
+                list(range(len(CARDS) + 1, len(CARDS) + 1 + len(ranges))), path, [],
+                dict(values), [tuple(r) for r in ranges])
+
+
 def punch_file(path: str | os.PathLike[str]) -> str:
     """The deck for the spec file at ``path``."""
     return punch_deck(read_spec(path), os.fspath(path))
@@ -309,9 +369,12 @@ def read_spec(path: str | os.PathLike[str]) -> dict:
     name = os.fspath(path)
     try:
         with open(path, "rb") as f:
-            data = f.read()
+            data = f.read(MAX_SPEC_BYTES + 1)  # /dev/zero, a huge file: never read whole
     except OSError as err:
         raise PunchError(f"{name}: cannot read the spec ({err.strerror or err})") from None
+    if len(data) > MAX_SPEC_BYTES:
+        raise PunchError(f"{name}: longer than {MAX_SPEC_BYTES:,} bytes: not a spec (a spec "
+                         "is a page of TOML)")
     try:
         spec = tomllib.loads(data.decode("utf-8"), parse_float=Decimal)
     except UnicodeDecodeError as err:
@@ -320,6 +383,8 @@ def read_spec(path: str | os.PathLike[str]) -> dict:
         raise PunchError(f"{name}: not valid TOML ({err})") from None
     except RecursionError:
         raise PunchError(f"{name}: not a spec (tables or arrays nested too deep)") from None
+    except ValueError as err:  # an integer past Python's 4300-digit conversion limit
+        raise PunchError(f"{name}: not valid TOML ({err})") from None
     return spec
 
 
@@ -429,8 +494,6 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
         W3 = [4.0, 8.0, 12.0]                     # or the values themselves
         BALANCE = [0, 1]                          # without and with counterweights
     """
-    import math
-
     import numpy as np
 
     from sielaff.design.figures import FIGURES
@@ -456,7 +519,9 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     vary = _table(f"{path}: [sweep.vary]", table.get("vary", {}))
     if not vary:
         raise PunchError(f"{path}: [sweep.vary] is empty: name at least one field to vary")
-    axes = {}
+    # First the shape of every axis and the grid's size, from the lengths alone: nothing
+    # is built before the size is known to be within bounds.
+    lengths = {}
     for name, item in vary.items():
         where = f"{path}: [sweep.vary] {name}"
         if name not in SWEEPABLE:
@@ -465,32 +530,55 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
         if isinstance(item, list):
             if not item:
                 raise PunchError(f"{where} = []: give at least one value")
+            lengths[name] = len(item)
+            continue
+        item = _table(where, item)
+        _unknown(where, item, ("from", "to", "n"))
+        if not {"from", "to", "n"} <= set(item):
+            raise PunchError(f"{where}: write {{ from = ..., to = ..., n = ... }} or a "
+                             "list of values")
+        n = item["n"]
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
+            raise PunchError(f"{where} n = {n!r}: a whole number, 1 or more")
+        if n > MAX_DESIGNS:
+            raise PunchError(f"{where} n = {n}: more than {MAX_DESIGNS:,} values")
+        lengths[name] = n
+    size = 1
+    for n in lengths.values():
+        size *= n
+        if size > MAX_DESIGNS:  # stops at once, however many axes follow
+            shape = " x ".join(str(k) for k in lengths.values())
+            raise PunchError(f"{path}: [sweep.vary] makes {shape} designs, more than "
+                             f"{MAX_DESIGNS:,}")
+    axes = {}
+    for name, item in vary.items():
+        where = f"{path}: [sweep.vary] {name}"
+        if isinstance(item, list):
             values = np.array([float(_number(where, v)) for v in item])
         else:
-            item = _table(where, item)
-            _unknown(where, item, ("from", "to", "n"))
-            if not {"from", "to", "n"} <= set(item):
-                raise PunchError(f"{where}: write {{ from = ..., to = ..., n = ... }} or a "
-                                 "list of values")
-            n = item["n"]
-            if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
-                raise PunchError(f"{where} n = {n!r}: a whole number, 1 or more")
-            if n > MAX_DESIGNS:
-                raise PunchError(f"{where} n = {n}: more than {MAX_DESIGNS} values")
-            values = np.linspace(float(_number(where + " from", item["from"])),
-                                 float(_number(where + " to", item["to"])), n)
-        if not np.all(np.isfinite(values)):
-            raise PunchError(f"{where}: values must be finite")
-        if name == "BALANCE" and not np.all(np.isin(values, (0.0, 1.0))):
-            raise PunchError(f"{where}: 0 (as designed) or 1 (balanced)")
-        if name in ("CW_R2", "CW_R4") and not np.all(values > 0.0):
-            raise PunchError(f"{where}: a counterweight's radius must be > 0")
+            lo = float(_number(where + " from", item["from"]))
+            hi = float(_number(where + " to", item["to"]))
+            values = np.linspace(lo, hi, item["n"])
+        _check_axis(where, name, values)
         axes[name] = values
-    size = math.prod(len(v) for v in axes.values())
-    if size > MAX_DESIGNS:
-        raise PunchError(f"{path}: [sweep.vary] makes {size} designs, more than "
-                         f"{MAX_DESIGNS}")
     return {"axes": axes, "angles": angles, "cf": cf, "pareto": pareto}
+
+
+def _check_axis(where: str, name: str, values) -> None:
+    """A swept field's values (each already a bounded, finite spec number) that no design
+    can have, as one line naming the axis and the first bad value."""
+    import numpy as np
+
+    from sielaff.mechanism import LENGTHS, NONNEGATIVE
+
+    rules = [(name in LENGTHS, values > 0.0, "a link length must be > 0"),
+             (name in NONNEGATIVE, values >= 0.0,
+              "weights and moments of inertia cannot be negative"),
+             (name == "BALANCE", np.isin(values, (0.0, 1.0)), "0 (as designed) or 1 (balanced)"),
+             (name in ("CW_R2", "CW_R4"), values > 0.0, "a counterweight's radius must be > 0")]
+    for applies, ok, why in rules:
+        if applies and not np.all(ok):
+            raise PunchError(f"{where} = {float(values[np.argmin(ok)]):g}: {why}")
 
 
 def spec_dict(values: dict[str, Decimal], ranges: list[tuple[Decimal, Decimal, Decimal]],

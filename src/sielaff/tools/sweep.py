@@ -21,6 +21,69 @@ import sys
 
 #: A sweep of at most this many designs runs in process unless --workers says otherwise.
 SMALL = 1024
+#: ``--scheduler``: seconds to open the connection, and for the scheduler's first words
+#: (a dask scheduler speaks at once; a server that accepts and stays silent is not one).
+CONNECT_SECONDS = 10.0
+HANDSHAKE_SECONDS = 10.0
+
+
+def _probe_scheduler(address: str) -> None:
+    """Refuse, in one line and within :data:`CONNECT_SECONDS` + :data:`HANDSHAKE_SECONDS`,
+    an address where no dask scheduler answers: nothing listening, a server that never
+    speaks, or one that speaks another protocol (HTTP: the dashboard's port, say).
+
+    A dask scheduler greets each connection first, with a frame header: an 8-byte
+    little-endian length, then the frames (``distributed.comm.tcp``).  Only ``tcp://``
+    addresses are probed; another scheme (``tls://``) goes straight to the client, whose
+    own timeout is :data:`CONNECT_SECONDS`.
+    """
+    import socket
+
+    from sielaff.tools.common import CommandError
+
+    if not address.strip():
+        raise CommandError("--scheduler '': an empty address (give tcp://HOST:PORT, or leave "
+                           "--scheduler out to run on this machine)")
+    from distributed.comm import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address)
+        if scheme != "tcp":
+            return
+        host, port = parse_host_port(location, 8786)
+    except (ValueError, TypeError) as exc:
+        raise CommandError(f"--scheduler {address}: not an address ({exc}; give "
+                           "tcp://HOST:PORT)") from None
+    where = f"--scheduler {address}"
+    try:
+        conn = socket.create_connection((host, int(port)), timeout=CONNECT_SECONDS)
+    except TimeoutError:
+        raise CommandError(f"{where}: cannot reach it (no answer within "
+                           f"{CONNECT_SECONDS:g} s)") from None
+    except OSError as exc:
+        raise CommandError(f"{where}: cannot reach it ({exc.strerror or exc})") from None
+    with conn:
+        conn.settimeout(HANDSHAKE_SECONDS)
+        head = b""
+        try:
+            while len(head) < 8:
+                more = conn.recv(8 - len(head))
+                if not more:
+                    break
+                head += more
+        except TimeoutError:
+            raise CommandError(f"{where}: it accepts connections but says nothing within "
+                               f"{HANDSHAKE_SECONDS:g} s: not a dask scheduler (the "
+                               "scheduler's usual port is 8786; 8787 is its dashboard)") \
+                from None
+        except OSError as exc:
+            raise CommandError(f"{where}: the connection failed ({exc.strerror or exc})") \
+                from None
+    length = int.from_bytes(head.ljust(8, b"\0"), "little")
+    if len(head) < 8 or not 0 < length < 1 << 20:
+        what = "it speaks HTTP" if head.startswith(b"HTTP") else "its first bytes are not"
+        raise CommandError(f"{where}: it answers, but not as a dask scheduler ({what} a "
+                           "dask handshake)")
 
 
 def _rows(block, names: list[str]):
@@ -36,16 +99,10 @@ def _rows(block, names: list[str]):
 
 def _header(names: list[str], system: str) -> str:
     """NAME[unit] for each column (none for DESIGN, BALANCE and KIND)."""
-    from sielaff.design.figures import FIGURES
-    from sielaff.quantities import unit
+    from sielaff.design.sweep import column_units
 
-    def one(n: str) -> str:
-        if n in ("DESIGN", "BALANCE", "KIND"):
-            return n
-        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
-        return f"{n}[{unit(base, system)}]"
-
-    return ",".join(one(n) for n in names)
+    units = column_units(names, system)
+    return ",".join(n if units[n] == "-" else f"{n}[{units[n]}]" for n in names)
 
 
 def _pareto(x, y):
@@ -54,8 +111,11 @@ def _pareto(x, y):
 
     # roundoff (a balanced design's shaking force, ~1E-13) is zero: ties never depend
     # on a CPU's last bits
-    x, y = (np.where(np.abs(v) <= 1e-9 * np.nanmax(np.abs(v)), 0.0, v) for v in (x, y))
-    ok = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
+    finite = np.isfinite(x) & np.isfinite(y)
+    if not finite.any():  # no design turns fully: no front (and no all-NaN reduction)
+        return np.array([], dtype=int)
+    x, y = (np.where(np.abs(v) <= 1e-9 * np.max(np.abs(v[finite])), 0.0, v) for v in (x, y))
+    ok = np.flatnonzero(finite)
     order = ok[np.lexsort((y[ok], x[ok]))]
     front, best = [], np.inf
     for i in order:
@@ -69,15 +129,14 @@ def cmd_sweep(args) -> int:
     import numpy as np
 
     from sielaff.design.sweep import Grid, columns, iter_blocks
-    from sielaff.tools.common import CommandError, read_spec_deck, refuse_overwriting_inputs
-    from sielaff.tools.output import atomic_files
+    from sielaff.tools.common import CommandError, read_spec_deck, refuse_bad_output
+    from sielaff.tools.output import atomic_files, check_targets
     from sielaff.tools.spec import PunchError, read_spec, sweep_of
 
     path = args.spec
     for target in (args.output, args.plot):
-        refuse_overwriting_inputs(target, [path])
-        if target and os.path.isdir(target):
-            raise CommandError(f"sielaff: {target} is a folder: name the file to write")
+        refuse_bad_output(target, [path])
+    check_targets([p for p in (args.output, args.plot) if p])  # before any work
     if args.plot:
         try:
             import matplotlib  # noqa: F401
@@ -87,6 +146,10 @@ def cmd_sweep(args) -> int:
     if not path.endswith(".toml"):
         raise CommandError(f"{path}: sweep reads a TOML spec with a [sweep] table")
     deck, scene = read_spec_deck(path)
+    if getattr(args, "branch", None):
+        import dataclasses
+
+        scene = dataclasses.replace(scene, branch=args.branch)
     try:
         sweep = sweep_of(read_spec(path), path)
     except PunchError as exc:
@@ -97,6 +160,8 @@ def cmd_sweep(args) -> int:
     workers = args.workers or os.cpu_count() or 1
     if args.workers is None and grid.size <= SMALL and not args.scheduler:
         workers = 1  # a small sweep: starting dask would cost more than it saves
+    if args.scheduler == "":
+        _probe_scheduler("")  # refused: an empty address is not "run locally"
     if args.scheduler or workers > 1:
         try:
             import dask  # noqa: F401
@@ -107,14 +172,8 @@ def cmd_sweep(args) -> int:
             workers = 1
         else:
             backend = "dask"
-    if backend == "dask" and args.scheduler:
-        from distributed import Client
-
-        try:
-            client = Client(args.scheduler, timeout=30)
-        except OSError as exc:
-            raise CommandError(f"--scheduler {args.scheduler}: cannot reach it ({exc})") \
-                from None
+    if backend == "dask" and args.scheduler is not None:
+        client = _connect(args.scheduler)
     names = columns(grid)
     header = _header(names, m.units)
     px, py = (names.index(p) for p in sweep["pareto"])
@@ -125,8 +184,9 @@ def cmd_sweep(args) -> int:
             out = open(temps[0], "w", newline="") if args.output else sys.stdout  # noqa: SIM115
             try:
                 out.write(header + "\n")
-                for block in iter_blocks(grid, sweep["angles"], sweep["cf"], scene, backend,
-                                         client, workers=workers):
+                blocks = iter_blocks(grid, sweep["angles"], sweep["cf"], scene, backend,
+                                     client, workers=workers)
+                for block in _on_cluster(blocks, args.scheduler, client):
                     out.write("\n".join(_rows(block, names)) + "\n")
                     xs.append(block[:, px])
                     ys.append(block[:, py])
@@ -138,12 +198,75 @@ def cmd_sweep(args) -> int:
                       m.units, grid.size)
     finally:
         if client is not None:
-            client.close()
+            _close(client)
     ok = np.isfinite(np.concatenate(xs))
     print(f"sielaff sweep: {grid.size} designs ({int(ok.sum())} with a full cycle), "
-          f"{sweep['angles']} angles each, on {backend if backend == 'process' else 'dask'}"
+          f"{sweep['angles']} angles each, "
+          f"{'in this process' if backend == 'process' else 'through dask'}"
           + (f" -> {args.output}" if args.output else ""), file=sys.stderr)
     return 0
+
+
+def _connect(address: str):
+    """A dask.distributed client for ``address``, or one line saying why not (the probe
+    first: :func:`_probe_scheduler`).  distributed's log lines are silenced while the
+    client lives: what goes wrong is said once, by sielaff."""
+    import logging
+
+    from sielaff.tools.common import CommandError
+
+    _probe_scheduler(address)
+    logging.disable(logging.CRITICAL)  # undone by _close
+    from distributed import Client
+
+    try:
+        return Client(address, timeout=CONNECT_SECONDS)
+    except Exception as exc:  # noqa: BLE001 (any failure of the handshake is one line)
+        logging.disable(logging.NOTSET)
+        raise CommandError(f"--scheduler {address}: cannot connect "
+                           f"({_why(exc)})") from None
+
+
+def _why(exc: BaseException) -> str:
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _on_cluster(blocks, address: str | None, client):
+    """``blocks``, with a distributed cluster's failures (the scheduler gone, no worker
+    left: :data:`sielaff.design.sweep.NO_WORKER_SECONDS`) as one line."""
+    if client is None:
+        yield from blocks
+        return
+    from sielaff.tools.common import CommandError
+
+    while True:
+        try:
+            block = next(blocks)
+        except StopIteration:
+            return
+        except Exception as exc:  # noqa: BLE001 (any failure on the cluster is one line)
+            from sielaff.design.sweep import ClusterLost
+
+            if isinstance(exc, ClusterLost):
+                what = f"{exc}: the sweep stopped"
+            elif ("Cancelled" in type(exc).__name__ or "CommClosed" in type(exc).__name__
+                  or "connection-lost" in str(exc)):
+                what = "the work was cancelled: the scheduler was lost or stopped mid-sweep"
+            else:
+                what = f"the sweep failed on the cluster ({_why(exc)})"
+            raise CommandError(f"--scheduler {address}: {what}") from None
+        yield block
+
+
+def _close(client) -> None:
+    """Close the client without waiting long for a scheduler that is gone."""
+    import contextlib
+    import logging
+
+    with contextlib.suppress(Exception):
+        client.close(timeout=2)
+    logging.disable(logging.NOTSET)
 
 
 def _plot(path: str, x, y, pair, system: str, size: int) -> None:

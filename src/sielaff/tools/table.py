@@ -169,8 +169,13 @@ def header(names: tuple[str, ...], units: bool = True, system: str = "in-lb-sec"
 
 
 def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool = False,
-                warn=None, units: bool = True, scene: Scene | None = None) -> int:
+                warn=None, units: bool = True, scene: Scene | None = None,
+                assembled_only: bool = False) -> int:
     """Write the table of ``deck`` on ``out``; returns the number of rows.
+
+    With ``assembled_only`` (a linkage whose crank cannot turn fully) a position where
+    the loop does not close, or a toggle where the rates are infinite, is left out
+    (counted in one warning per card): rows only where the linkage assembles.
 
     ``warn(text)`` receives one line per range card with no positions, and per
     card with values that are not finite.  The caller has checked the deck
@@ -200,6 +205,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     rows = 0
     buffers = np.empty((len(wanted), BLOCK))
     bad: dict[int, list[int]] = {}  # card -> [positions not finite, positions]
+    skipped: dict[int, list[int]] = {}  # card -> [positions left out, positions]
     batch: list[tuple[int, int, np.ndarray]] = []  # (card, positions, angles): one call
     batched = 0
 
@@ -221,8 +227,13 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
         for card, n, a in batch:
             part = block[start:start + a.size]
             start += a.size
-            nonfinite = int(np.count_nonzero(~np.isfinite(part).all(axis=1)))
-            if nonfinite:
+            ok = np.isfinite(part).all(axis=1)
+            nonfinite = int(np.count_nonzero(~ok))
+            if nonfinite and assembled_only:
+                skipped.setdefault(card, [0, n])[0] += nonfinite
+                part = part[ok]
+                a = a[ok]
+            elif nonfinite:
                 bad.setdefault(card, [0, n])[0] += nonfinite
             for lo in range(0, a.size, CHUNK):
                 for text in _lines(card, part[lo:lo + CHUNK], json):
@@ -248,6 +259,9 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
             if batched >= BLOCK:
                 flush()
     flush()
+    for card, (left, n) in skipped.items():
+        warn(f"{deck.path}: card {card}: {left} of {n} positions left out, where the "
+             "linkage does not assemble (or is at a toggle)")
     for card, (nonfinite, n) in bad.items():
         warn(f"{deck.path}: card {card}: {nonfinite} of {n} positions have values "
              f"that are not finite (written as {'null' if json else 'nan or inf'})")
@@ -266,13 +280,16 @@ def cmd_table(args: argparse.Namespace) -> int:
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
-    deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:])
+    deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:],
+                             branch=getattr(args, "branch", None), any_kind=True)
+    from sielaff.mechanism import crank_rocker_failure
 
     def warn(text: str) -> None:
         print(f"sielaff: warning: {text}", file=sys.stderr)
 
     with atomic_output(args.output) as out:
         write_table(deck, out, args.format, args.only == "kinematics", warn,
-                    units=getattr(args, "header", "units") == "units", scene=scene)
+                    units=getattr(args, "header", "units") == "units", scene=scene,
+                    assembled_only=crank_rocker_failure(deck.mechanism) is not None)
     return 0
 

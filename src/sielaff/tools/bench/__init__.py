@@ -23,13 +23,18 @@ def _need(module: str, extra: str, what: str) -> None:
         importlib.import_module(module)
     except ImportError:
         raise CommandError(f"sielaff: {what} needs {module}, which is not installed "
-                           f"(pip install 'sielaff[{extra}]')") from None
+                           f"(pip install -e \".[{extra}]\")") from None
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
     _need("mpmath", "bench", "bench (its 50-digit reference)")
     if args.output:
         _need("matplotlib", "bench", "bench -o (the report's figure)")
+        figure = os.path.splitext(args.output)[0] + ".png"
+        if os.path.realpath(figure) == os.path.realpath(args.output):
+            raise CommandError(f"sielaff: -o {args.output}: the report and its figure would "
+                               f"both be {figure}: name the report .md (its figure is the "
+                               "same name with .png)")
         if os.path.isdir(args.output):
             raise CommandError(f"sielaff: {args.output}: is a folder; -o names the report "
                                "file (its PNG goes beside it)")
@@ -41,6 +46,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
                                f"({exc.strerror})") from exc
         if not os.access(folder, os.W_OK):
             raise CommandError(f"sielaff: {args.output}: its folder is not writable")
+        from sielaff.tools.output import check_targets
+
+        try:  # before the study: a folder in the way of the figure, say
+            check_targets([args.output, figure])
+        except OSError as exc:
+            raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
     from sielaff.tools.bench import study as s
     from sielaff.tools.bench.report import headline, write_report
 

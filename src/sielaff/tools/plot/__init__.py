@@ -50,6 +50,7 @@ from sielaff.emulator.cards import Deck
 from sielaff.engine import analyze
 from sielaff.engine.derived import cycle_work
 from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.quantities import KINDS, fmt, unit_of
 from sielaff.tools.common import work_text
 from sielaff.tools.plot.render import (  # noqa: F401 (part of this module's interface)
     _pyplot,
@@ -95,6 +96,8 @@ class PlotData:
     points: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     link_outline: bool = False
     zero_line: bool = False
+    #: the unit of a polar figure's magnitude (its rings)
+    r_unit: str = "lb"
 
     @property
     def filename(self) -> str:
@@ -205,16 +208,16 @@ def _deck_points(deck: Deck) -> np.ndarray | None:
 POLAR_FIGURES = (
     # name, title, legend, magnitude, direction, relative to ATH4?
     ("fig13-force-4-on-1", "Fig. 13  Polar diagram of the force of 4 on 1 (FOB, at O4)",
-     "F 4 ON 1 (FOB), lb", "FOB", "DFOB", False),
+     "F 4 ON 1 (FOB)", "FOB", "DFOB", False),
     ("fig14-force-3-on-4-rel-link4",
      "Fig. 14  Polar diagram of the force of 3 on 4 (FB34, at B), relative to link 4",
-     "F 3 ON 4 (FB34), lb", "FB34", "DFB34", True),
+     "F 3 ON 4 (FB34)", "FB34", "DFB34", True),
     ("force-2-on-1", "Polar diagram of the force of 2 on 1 (FOA, at O2)",
-     "F 2 ON 1 (FOA), lb", "FOA", "DFOA", False),
+     "F 2 ON 1 (FOA)", "FOA", "DFOA", False),
     ("force-3-on-2", "Polar diagram of the force of 3 on 2 (FA32, at A)",
-     "F 3 ON 2 (FA32), lb", "FA32", "DFA32", False),
+     "F 3 ON 2 (FA32)", "FA32", "DFA32", False),
     ("fig16-shaking-force", "Fig. 16  Polar diagram of the shaking force (SHAKE)",
-     "SHAKE, lb", "SHAK", "DSHAK", False),
+     "SHAKE", "SHAK", "DSHAK", False),
 )
 
 KINEMATIC_FIGURES = (
@@ -222,14 +225,14 @@ KINEMATIC_FIGURES = (
     ("kin-link-angles", "Angles of links 3 and 4, and the transmission angle",
      "angle (deg)", [("ATH3", "THETA 3 (link 3)"), ("ATH4", "THETA 4 (link 4)"),
                      ("GAMMA", "transmission angle GAMMA")]),
-    ("kin-angular-velocity", "Angular velocities of links 3 and 4", "angular velocity (rad/sec)",
+    ("kin-angular-velocity", "Angular velocities of links 3 and 4", "angular velocity ({rate})",
      [("TH3D", "ANG VEL 3 (TH3D)"), ("TH4D", "ANG VEL 4 (TH4D)")]),
     ("kin-angular-acceleration", "Angular accelerations of links 3 and 4",
-     "angular acceleration (rad/sec^2)",
+     "angular acceleration ({angular acceleration})",
      [("TH3DD", "ANG ACC 3 (TH3DD)"), ("TH4DD", "ANG ACC 4 (TH4DD)")]),
-    ("kin-pin-velocity", "Velocities of pins A and B", "speed (in/sec)",
+    ("kin-pin-velocity", "Velocities of pins A and B", "speed ({speed})",
      [("VA", "VEL A"), ("VB", "VEL B")]),
-    ("kin-pin-acceleration", "Accelerations of pins A and B", "acceleration (in/sec^2)",
+    ("kin-pin-acceleration", "Accelerations of pins A and B", "acceleration ({acceleration})",
      [("AA", "ACC A"), ("AB", "ACC B")]),
 )
 
@@ -246,12 +249,15 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
     if only not in (None, "kinematics"):
         raise ValueError(f"only={only!r}: the choices are None and 'kinematics'")
     sub = _subtitle(deck, scene)
+    system = deck.mechanism.units
+    units = {kind: unit_of(kind, system) for kind in KINDS}
     out: dict[str, PlotData] = {}
     if only == "kinematics":
         names = [n for fig in KINEMATIC_FIGURES for n, _ in fig[3]]
         ath2, v = _evaluate(deck, names, scene)
         for name, title, ylabel, curves in KINEMATIC_FIGURES:
-            out[name] = PlotData(name, f"{title}\n{sub}", "line", ath2, XLABEL, ylabel,
+            out[name] = PlotData(name, f"{title}\n{sub}", "line", ath2, XLABEL,
+                                 ylabel.format_map(units),
                                  series={label: v[n] for n, label in curves})
         return out
 
@@ -259,10 +265,11 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
     work, abs_work = cycle_work(deck.mechanism, scene=scene)
     fig12 = PlotData(
         "fig12-driving-torque", f"Fig. 12  Driving torque against THETA 2\n{sub}", "line",
-        ath2, XLABEL, "driving torque TORQ (in-lb)", series={"driving torque TORQ": v["TORQ"]},
+        ath2, XLABEL, f"driving torque TORQ ({units['torque']})",
+        series={"driving torque TORQ": v["TORQ"]},
         zero_line=True,
-        notes=[f"cycle work \u222e TORQ d\u03b8\u2082 = {work_text(work, abs_work)}"
-               f"\n(\u222e |TORQ| d\u03b8\u2082 = {abs_work:.0f} in-lb)"])
+        notes=[f"cycle work \u222e TORQ d\u03b8\u2082 = {work_text(work, abs_work, system)}"
+               f"\n(\u222e |TORQ| d\u03b8\u2082 = {fmt(abs_work, 'work', system, '.0f')})"])
     pts = _deck_points(deck)
     if pts is not None:
         fig12.points["deck positions (listing sheets)"] = (
@@ -279,7 +286,8 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
             theta = np.mod(theta - v["ATH4"], 360.0)
             mark_theta = np.mod(mark_theta - mv["ATH4"], 360.0)
         out[name] = PlotData(
-            name, f"{title}\n{sub}", "polar", ath2, "direction (deg)", legend,
+            name, f"{title}\n{sub}", "polar", ath2, "direction (deg)",
+            f"{legend}, {units['force']}", r_unit=units["force"],
             theta=theta, r=v[mag], marks=marks, mark_theta=mark_theta, mark_r=mv[mag],
             link_outline=relative)
     return out
@@ -435,14 +443,15 @@ def _draw_polar(plt, d: PlotData):
     ax.set_rlabel_position(ring_angle)
     # no ring label in the outer tenth: it would reach the title or the angle labels
     ax.yaxis.set_major_formatter(plt.FuncFormatter(
-        lambda v, _: f"{v:g} lb" if v <= 0.9 * rlim else ""))
+        lambda v, _: f"{v:g} {d.r_unit}" if v <= 0.9 * rlim else ""))
     ax.tick_params(axis="y", labelsize=8, colors="0.3")
     ax.set_xticks(np.radians(np.arange(0, 360, 45)))
     ax.grid(True, color="0.82", lw=0.6)
     fig.text(0.5, 0.975, d.title, ha="center", va="top", fontsize=11)
     around = ("from link 4's line O4 to B (DFB34 - ATH4)" if d.link_outline
               else "from the +x axis (O2 to O4)")
-    fig.text(0.5, 0.075, f"force magnitude in lb (rings); direction in degrees {around}, CCW",
+    fig.text(0.5, 0.075,
+             f"force magnitude in {d.r_unit} (rings); direction in degrees {around}, CCW",
              ha="center", va="center", fontsize=9)
     fig.legend(loc="lower center", bbox_to_anchor=(0.5, 0.01), ncol=3, frameon=False,
                fontsize=9)
@@ -510,6 +519,18 @@ def write_plots(deck: Deck, directory: str, only: str | None = None,
     return list(images)
 
 
+def _file_names(args) -> list[str]:
+    """The files ``plot`` will write for ``args`` (checked before any work)."""
+    if args.linkage or args.animate:
+        return (["linkage.png"] + (["linkage.gif"] if args.animate else [])
+                + (["bearings.png"] if args.bearings else []))
+    if args.bearings:
+        return ["bearings.png"]
+    if args.only == "kinematics":
+        return [f"{fig[0]}.png" for fig in KINEMATIC_FIGURES]
+    return ["fig12-driving-torque.png"] + [f"{fig[0]}.png" for fig in POLAR_FIGURES]
+
+
 def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
@@ -522,23 +543,35 @@ def cmd_plot(args) -> int:
         raise CommandError(f"sielaff: {exc}") from None
     if not args.output:
         raise CommandError("sielaff: -o '': an empty folder name")
+    drawing = args.linkage or args.animate
+    if not drawing and (args.at is not None or args.point):
+        raise CommandError(f"sielaff: {'--at' if args.at is not None else '--point'} draws "
+                           "on the linkage: add --linkage")
     if os.path.exists(args.output) and not os.path.isdir(args.output):
         raise CommandError(f"sielaff: -o {args.output} is a file, not a folder: plot writes "
                            "several PNG files into a folder")
-    deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate)
+    from sielaff.tools.output import check_targets
+
+    try:  # before any work: a folder where a figure goes, say
+        check_targets([os.path.join(args.output, name) for name in _file_names(args)])
+    except OSError as exc:
+        raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
+    deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate,
+                             branch=args.branch, any_kind=True)
+    paths: list[str] = []
+    if args.linkage or args.animate:  # with --bearings too: both drawings
+        from sielaff.tools.plot.linkage import write_linkage
+
+        paths += write_linkage(deck, args.output, args.at or (40.0,), args.point, scene.branch,
+                               args.animate)
     if args.bearings:
         from sielaff.tools.plot.bearings import write_bearings
 
         try:
-            paths = write_bearings(deck, args.output, scene)
+            paths += write_bearings(deck, args.output, scene)
         except ValueError as exc:
             raise CommandError(f"{args.deck}: {exc}") from None
-    elif args.linkage or args.animate:
-        from sielaff.tools.plot.linkage import write_linkage
-
-        paths = write_linkage(deck, args.output, args.at, args.point, args.branch,
-                              args.animate)
-    else:
+    if not (args.bearings or args.linkage or args.animate):
         paths = write_plots(deck, args.output, args.only, scene)
     for path in paths:
         print(path)

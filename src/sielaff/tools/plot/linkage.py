@@ -7,6 +7,7 @@ import io
 import math
 import os
 import tempfile
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +33,7 @@ class LinkageData:
 def linkage_data(deck: Deck, at=(40.0,), points=(), branch: str = "open") -> LinkageData:
     """Joints O2, A, B, O4, G2, G3, G4 at the angles ``at`` (degrees), and the curves of G3
     and of ``points`` ((link, r, angle) tuples) over the angles the linkage reaches."""
-    from sielaff.engine import linkage_class, point_motion, reachable
+    from sielaff.engine import AssemblyWarning, linkage_class, point_motion, reachable
     from sielaff.quantities import unit
 
     m = deck.mechanism
@@ -43,9 +44,18 @@ def linkage_data(deck: Deck, at=(40.0,), points=(), branch: str = "open") -> Lin
         return p["X"], p["Y"]
 
     zero = np.zeros_like(at)
-    joints = {"O2": (zero, zero), "O4": (zero + m.R1, zero), "A": xy(2, m.R2, 0.0, at),
-              "B": xy(4, m.R4, 0.0, at), "G2": xy(2, m.RG2, m.ADEL2, at),
-              "G3": xy(3, m.RG3, m.ADEL3, at), "G4": xy(4, m.RG4, m.ADEL4, at)}
+    with warnings.catch_warnings():  # the engine's words; the user's are below
+        warnings.simplefilter("ignore", AssemblyWarning)
+        joints = {"O2": (zero, zero), "O4": (zero + m.R1, zero), "A": xy(2, m.R2, 0.0, at),
+                  "B": xy(4, m.R4, 0.0, at), "G2": xy(2, m.RG2, m.ADEL2, at),
+                  "G3": xy(3, m.RG3, m.ADEL3, at), "G4": xy(4, m.RG4, m.ADEL4, at)}
+    apart = at[~np.isfinite(joints["B"][0])]
+    if apart.size:
+        warnings.warn(f"{deck.path}: --at {','.join(f'{a:g}' for a in apart)}: the linkage "
+                      "cannot be put together at "
+                      f"{'this crank angle' if apart.size == 1 else 'these crank angles'} "
+                      "(link 3 does not reach link 4 there); the drawing leaves "
+                      f"{'it' if apart.size == 1 else 'them'} out", stacklevel=2)
     sweep = reachable(m, 721)
     curves = {"G3": xy(3, m.RG3, m.ADEL3, sweep)}
     for k, (link, r, angle) in enumerate(points, 1):
@@ -125,7 +135,11 @@ def _animation(plt, deck: Deck, points, branch: str, frames: int = 36) -> bytes:
 
     from sielaff.engine import reachable
 
-    d = linkage_data(deck, reachable(deck.mechanism, frames), points, branch)
+    cycle = reachable(deck.mechanism, frames)
+    if not np.size(cycle):
+        raise ValueError(f"{deck.path}: --animate: the linkage cannot be put together at any "
+                         "crank angle (link 3 never reaches link 4): there is no cycle to show")
+    d = linkage_data(deck, cycle, points, branch)
     fig, ax = plt.subplots(figsize=(7, 5), dpi=80, layout="constrained")
     xs = np.concatenate([np.ravel(x) for x, _ in (*d.joints.values(), *d.curves.values())])
     ys = np.concatenate([np.ravel(y) for _, y in (*d.joints.values(), *d.curves.values())])

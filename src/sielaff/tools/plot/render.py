@@ -17,7 +17,7 @@ def _pyplot():
     try:
         import matplotlib
     except ImportError:
-        raise ImportError("sielaff plot needs matplotlib: pip install 'sielaff[plot]'") from None
+        raise ImportError("sielaff plot needs matplotlib: pip install -e \".[plot]\"") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

@@ -1,0 +1,446 @@
+"""``simulate``: the crank driven by a motor, its speed a result (forward dynamics).
+
+The linkage has one degree of freedom, the crank angle th2.  The engine's kinetostatic
+drive torque TORQ at a state (th2, w = TH2D, a = TH2DD) is what the crank must be given
+for that motion; with a motor torque M(w) and a flywheel of inertia F on the crank, the
+motion is the one where the motor gives exactly that torque and the flywheel's share:
+
+    M(w) = F a + TORQ(th2, w, a)
+
+TORQ is affine in a (the inertia forces are), TORQ(th2, w, a) = TORQ(th2, w, 0) + J(th2) a,
+with J the reduced inertia of the linkage about O2 (Eksergian's form: TORQ = J a +
+J'(th2) w^2 / 2 + the loads' share).  So
+
+    (J(th2) + F) a = M(w) - TORQ(th2, w, 0)
+
+and TORQ(th2, w, 0) is, for every scene the engine has without friction, a quadratic in
+w: B(th2) w^2 (inertia) + C(th2) w (dampers) + D(th2) (gravity, loads, TEX, springs).
+``simulate`` reads J, B, C and D from the engine on a grid of crank angles (five analyze
+calls of one array each, one of them a check that TORQ really is that quadratic), holds
+them as Fourier series (periodic and smooth; the grid doubles until the series' tail is
+below 1e-13 of its largest term) and integrates with those.  A scene where the check
+fails (pin friction: TORQ depends on |pin force|, nonlinear in a), or a series that does
+not converge (near a toggle), is integrated by calling the engine at each state instead:
+J from two calls (a = 0 and a = 1), then, for friction, a short fixed-point iteration on a
+(a += (M - F a - TORQ(a)) / (J + F), secant slope J) to 1e-12 of the torque scale.
+
+Time integration: ``scipy.integrate.solve_ivp`` (the ``dynamics`` extra).  It gives what
+this problem needs in one place: adaptive steps with error control (the speed varies on
+the linkage's own time scale and, with a stiff motor, on the much shorter one
+(J + F) / stiffness), dense output (samples at any time), events located by root finding
+(the stall w = 0, the end after N revolutions), and both explicit (DOP853, RK45) and
+implicit/switching (Radau, BDF, LSODA) methods behind one call.  The default is LSODA:
+it switches to BDF by itself when a stiff motor makes the explicit steps too short, and
+uses Adams steps otherwise (benchmarks/simulate.py measures the choice, docs/effects.md).
+
+``steady=True`` finds the periodic steady state directly: the speed w0 at THETA 2 = start
+whose speed one revolution later is w0 again, by Brent's method on
+f(w0) = w(start + 360 deg) - w0 (scipy.optimize.brentq), integrating in the crank angle
+(dt/dth2 = 1/w, dw/dth2 = a/w), which is exact for a turning crank.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import numpy as np
+
+from sielaff.engine.analysis import analyze
+from sielaff.engine.classify import linkage_class
+from sielaff.engine.scene import Scene
+from sielaff.mechanism import Mechanism, validate
+from sielaff.quantities import unit
+
+__all__ = ["Simulation", "simulate"]
+
+TWO_PI = 2.0 * math.pi
+#: Evaluations of the equation of motion allowed per run: a bound on time, never a hang.
+MAX_EVALUATIONS = 400_000
+#: Largest Fourier grid tried for the tables (beyond: the engine at each state).
+MAX_GRID = 16384
+
+
+class Simulation(dict):
+    """``simulate``'s answer: ``{name: array}`` over the samples, and what happened.
+
+    Keys: ``t`` [s]; ``ATH2`` [deg], unwrapped (it keeps growing past 360); ``TH2D``
+    [rad/sec]; ``TH2DD`` [rad/sec^2]; ``MOTOR``, the motor's torque [in-lb or N m]; and
+    each asked-for engine output at those states.  Attributes: ``stalled`` (the crank
+    stopped and would turn back), ``finished`` (it made the revolutions asked for, or
+    for ``steady``, the steady state was found), ``message`` (one line saying which),
+    ``steady``, ``flywheel`` [in-lb-sec^2 or kg m^2], ``motor``, ``mode`` (``"tables"``
+    or ``"engine"``: how the equation of motion was evaluated), ``evaluations`` (of the
+    equation of motion), ``method``, ``rtol``, ``units`` (a unit for each key).
+    """
+
+    stalled: bool = False
+    finished: bool = True
+    message: str = ""
+    steady: bool = False
+    flywheel: float = 0.0
+    motor: Any = None
+    mode: str = "tables"
+    evaluations: int = 0
+    method: str = "LSODA"
+    rtol: float = 1e-8
+    units: dict[str, str] = {}
+
+
+class SimulationError(ValueError):
+    """A simulation that cannot be run or has no answer (one line)."""
+
+
+class _TooLong(Exception):
+    pass
+
+
+def _torq(mechanism: Mechanism, scene: Scene, ath2: Any, w: Any, a: Any) -> np.ndarray:
+    """The engine's TORQ at crank angles ``ath2`` [deg], speeds ``w``, accelerations ``a``."""
+    m = mechanism.replace(TH2D=w)
+    return analyze(m, ath2, ["TORQ"], scene=scene.replace(th2dd=a))["TORQ"]
+
+
+def _nonlinear(scene: Scene) -> bool:
+    """Whether the scene has an effect that is not affine in the crank's acceleration
+    (pin friction, when the Scene has it)."""
+    f = getattr(scene, "friction", None)
+    if f is None:
+        return False
+    if isinstance(f, dict):
+        return any(getattr(v, "mu", 1.0) for v in f.values())
+    return bool(getattr(f, "mu", True))
+
+
+class _Tables:
+    """J, B, C, D of TORQ(th2, w, a) = J a + B w^2 + C w + D as Fourier series."""
+
+    def __init__(self, mechanism: Mechanism, scene: Scene, scale: float) -> None:
+        self.ok = False
+        n = 256
+        while n <= MAX_GRID:
+            th = np.arange(n) * (360.0 / n)
+            s = scale
+            w = np.array([0.0, 0.0, s, -s, 2.0 * s])[:, None]
+            a = np.array([0.0, s * s, 0.0, 0.0, 0.7 * s * s])[:, None]
+            with np.errstate(all="ignore"):
+                q = _torq(mechanism, scene, np.broadcast_to(th, (5, n)), w, a)
+            if not np.all(np.isfinite(q)):
+                return
+            d = q[0]
+            jj = (q[1] - d) / (s * s)
+            b = (q[2] + q[3] - 2.0 * d) / (2.0 * s * s)
+            c = (q[2] - q[3]) / (2.0 * s)
+            check = jj * a[4, 0] + b * w[4, 0] ** 2 + c * w[4, 0] + d
+            peak = max(float(np.max(np.abs(q))), 1e-300)
+            if np.max(np.abs(check - q[4])) > 1e-9 * peak:
+                return  # not affine in a, or not quadratic in w: the engine per state
+            f = np.fft.rfft(np.stack([jj, b, c, d]), axis=-1) * (2.0 / n)
+            f[:, 0] *= 0.5
+            mag = np.abs(f)
+            tail = np.max(mag[:, n // 4:])
+            if tail <= 1e-13 * max(float(np.max(mag)), 1e-300):
+                self.coef = f[:, : n // 4 + 1]
+                self.k = np.arange(self.coef.shape[1], dtype=float)
+                self.n = n
+                self.ok = True
+                self.jmin = float(np.min(jj))
+                return
+            n *= 2
+
+    def __call__(self, theta: float) -> np.ndarray:
+        """(J, B, C, D) at ``theta`` [rad]."""
+        e = np.exp(1j * self.k * theta)
+        return (self.coef @ e).real
+
+
+def _check_speed(name: str, v: Any) -> float:
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        raise SimulationError(f"{name} = {v!r}: not a number") from None
+    if not math.isfinite(x):
+        raise SimulationError(f"{name} = {v!r}: not finite")
+    return x
+
+
+def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: float = 0.0,
+             scene: Scene | None = None, speed0: float | None = None,
+             revolutions: float = 20, steady: bool = False,
+             outputs: Iterable[str] | str | None = None, start: float = 0.0,
+             per_revolution: int = 360, method: str = "LSODA", rtol: float = 1e-8,
+             atol: float | None = None, t_max: float | None = None,
+             tables: bool = True) -> Simulation:
+    """The crank of ``mechanism`` driven by ``motor``: the motion that follows.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        One design (scalar fields); its TH2D [rad/sec] is the starting speed unless
+        ``speed0`` is given.  The crank must turn fully.
+    motor : callable
+        The drive torque [in-lb or N m] as a function of the crank speed TH2D [rad/sec]
+        (:class:`sielaff.Motor` has the common curves).
+    flywheel : float
+        Inertia added to the crank [in-lb-sec^2 or kg m^2].
+    scene : Scene, optional
+        What else acts (gravity, loads, TEX, ...); its ``th2dd`` must be 0 (the crank's
+        acceleration is the result here).
+    speed0 : float, optional
+        The crank speed at the start [rad/sec]; 0 starts from rest.
+    revolutions : float
+        How many crank revolutions to integrate (not with ``steady``).
+    steady : bool
+        Return one revolution of the periodic steady state, found by shooting.
+    outputs : names, optional
+        Engine outputs wanted at the samples (any of ``analyze``'s), besides the state.
+    start : float
+        The crank angle at the start [deg].
+    per_revolution : int
+        Samples per revolution of the result.
+    method, rtol, atol
+        ``solve_ivp``'s method and tolerances (atol default: rtol x the speed scale).
+    t_max : float, optional
+        A bound on the simulated time [s] (default: 100 x the time of ``revolutions``
+        at the starting or the motor's speed).
+    tables : bool
+        Use the Fourier tables when the scene allows (False: the engine at every state).
+
+    Returns
+    -------
+    Simulation
+    """
+    try:
+        from scipy.integrate import solve_ivp
+        from scipy.optimize import brentq
+    except ImportError:
+        raise SimulationError('simulate needs scipy: pip install -e ".[dynamics]"') from None
+    sc = Scene() if scene is None else scene
+    if not isinstance(sc, Scene):
+        raise SimulationError(f"scene = {scene!r} is not a sielaff.Scene")
+    if callable(sc.th2dd) or np.any(np.asarray(sc.th2dd) != 0.0):
+        raise SimulationError("simulate: the scene's th2dd must be 0 (the crank's "
+                              "acceleration is what simulate finds)")
+    if sc.per_position():
+        raise SimulationError("simulate: the scene's values must be constants or "
+                              "functions, not arrays over crank angles")
+    validate(mechanism)
+    for name, v in mechanism.as_dict().items():
+        if np.ndim(v):
+            raise SimulationError(f"simulate runs one design: {name} is an array")
+    if not callable(motor):
+        raise SimulationError(f"motor = {motor!r}: a function of TH2D (sielaff.Motor)")
+    f_in = _check_speed("flywheel", flywheel)
+    if f_in < 0.0:
+        raise SimulationError(f"flywheel = {flywheel!r}: an inertia cannot be negative")
+    if not bool(np.all(linkage_class(mechanism).turns_fully)):
+        raise SimulationError("simulate: the crank cannot make a whole revolution (not a "
+                              "crank-rocker or double-crank on this branch)")
+    w0 = _check_speed("speed0", mechanism.TH2D if speed0 is None else speed0)
+    revs = _check_speed("revolutions", revolutions)
+    if not steady and not 0.0 < revs <= 1e5:
+        raise SimulationError(f"revolutions = {revolutions!r}: a number in (0, 100000]")
+    if isinstance(per_revolution, bool) or not isinstance(per_revolution, int) \
+            or not 2 <= per_revolution <= 100_000:
+        raise SimulationError(f"per_revolution = {per_revolution!r}: an integer 2..100000")
+    if method not in ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"):
+        raise SimulationError(f"method = {method!r}: one of solve_ivp's (RK45, RK23, "
+                              "DOP853, Radau, BDF, LSODA)")
+    if not (isinstance(rtol, float | int) and 1e-14 <= rtol <= 0.1):
+        raise SimulationError(f"rtol = {rtol!r}: in [1e-14, 0.1]")
+    wanted = tuple(dict.fromkeys([outputs] if isinstance(outputs, str) else (outputs or ())))
+    analyze(mechanism, 0.0, wanted or ["TORQ"], scene=sc)  # unknown names fail here, first
+    th_start = math.radians(_check_speed("start", start))
+    m0 = float(np.asarray(motor(w0)))
+    if not math.isfinite(m0):
+        raise SimulationError(f"the motor's torque at {w0:g} rad/sec is {m0!r}")
+
+    motor_speed = float(getattr(motor, "speed_scale", 0.0) or 0.0)
+    scale = max(abs(w0), abs(float(mechanism.TH2D)), motor_speed, 1.0)
+    tab = _Tables(mechanism, sc, scale) if tables and not _nonlinear(sc) else None
+    if tab is not None and not tab.ok:
+        tab = None
+    count = [0]
+    nonlinear = _nonlinear(sc)
+
+    def accel(theta: float, w: float) -> float:
+        count[0] += 1
+        if count[0] > MAX_EVALUATIONS:
+            raise _TooLong
+        mt = float(np.asarray(motor(w)))
+        if tab is not None:
+            jj, b, c, d = tab(theta)
+            return (mt - (b * w * w + c * w + d)) / (jj + f_in)
+        deg = math.degrees(theta)
+        q = _torq(mechanism, sc, [deg, deg], w, np.array([0.0, 1.0]))
+        jj = float(q[1] - q[0])
+        a = (mt - float(q[0])) / (jj + f_in)
+        if nonlinear:
+            tol = 1e-12 * max(abs(mt), abs(float(q[0])), 1e-300)
+            for _ in range(50):
+                r = mt - f_in * a - float(_torq(mechanism, sc, deg, w, a))
+                if abs(r) <= tol:
+                    break
+                a += r / (jj + f_in)
+            else:
+                raise SimulationError(f"the friction iteration does not converge at "
+                                      f"THETA 2 = {deg:.6g} deg, TH2D = {w:.6g} rad/sec")
+        return a
+
+    tu = unit("TORQ", mechanism.units)
+    atol_ = rtol * scale if atol is None else float(atol)
+    result = Simulation()
+    result.flywheel, result.motor, result.method, result.rtol = f_in, motor, method, rtol
+    result.mode = "tables" if tab is not None else "engine"
+    result.steady = bool(steady)
+
+    try:
+        if steady:
+            t, th, w = _steady(accel, solve_ivp, brentq, th_start, w0, per_revolution,
+                               method, rtol, atol_)
+            result.message = (f"periodic steady state: {float(np.mean(w)):.6g} rad/sec "
+                              f"mean, {float(np.min(w)):.6g} to {float(np.max(w)):.6g}")
+        else:
+            t, th, w = _transient(accel, solve_ivp, th_start, w0, revs, per_revolution,
+                                  method, rtol, atol_, t_max, scale, result, tu)
+    except _TooLong:
+        raise SimulationError(f"simulate: more than {MAX_EVALUATIONS} evaluations of the "
+                              f"equation of motion (method {method}, rtol {rtol:g}): a "
+                              "stiff motor wants method='LSODA', 'Radau' or 'BDF'") from None
+    result.evaluations = count[0]
+    a = np.array([accel(x, y) for x, y in zip(th, w)]) if tab is None else _accel_table(
+        tab, motor, f_in, th, w)
+    result["t"] = t
+    result["ATH2"] = np.degrees(th)
+    result["TH2D"] = w
+    result["TH2DD"] = a
+    result["MOTOR"] = np.asarray(motor(w), dtype=float) * np.ones_like(w)
+    if wanted and len(t):
+        r = analyze(mechanism.replace(TH2D=w), np.degrees(th), wanted,
+                    scene=sc.replace(th2dd=a))
+        for name in wanted:
+            if name not in result:
+                result[name] = r[name]
+    result.units = {"t": "s", "ATH2": "deg", "TH2D": "rad/sec", "TH2DD": "rad/sec^2",
+                    "MOTOR": tu}
+    result.units.update({n: unit(n, mechanism.units) for n in wanted if n not in result.units})
+    return result
+
+
+def _accel_table(tab: _Tables, motor, f_in, th, w) -> np.ndarray:
+    e = np.exp(1j * tab.k[:, None] * np.asarray(th)[None, :])
+    jj, b, c, d = (tab.coef @ e).real
+    return (np.asarray(motor(w), dtype=float) - (b * w * w + c * w + d)) / (jj + f_in)
+
+
+def _transient(accel, solve_ivp, th0, w0, revs, per_rev, method, rtol, atol, t_max,
+               scale, result, tu):
+    """Integrate in time from (th0, w0) until ``revs`` revolutions, a stall or t_max."""
+    a0 = accel(th0, w0)
+    if w0 == 0.0 and a0 <= 0.0:
+        result.stalled, result.finished = True, False
+        result.message = (f"stalled: at rest at THETA 2 = {math.degrees(th0):.6g} deg the "
+                          f"motor cannot start the crank (it would turn back, "
+                          f"{a0:.6g} rad/sec^2)")
+        return np.array([0.0]), np.array([th0]), np.array([w0])
+    t_end = float(t_max) if t_max is not None else 100.0 * revs * TWO_PI / scale + 10.0
+
+    def rhs(_t, y):
+        return [y[1], accel(y[0], y[1])]
+
+    def stall(_t, y):
+        return y[1]
+    stall.terminal, stall.direction = True, -1
+
+    def done(_t, y):
+        return y[0] - th0 - TWO_PI * revs
+    done.terminal, done.direction = True, 1
+
+    sol = solve_ivp(rhs, (0.0, t_end), [th0, w0], method=method, rtol=rtol,
+                    atol=[atol, atol], events=[stall, done], dense_output=True)
+    if sol.status == -1:
+        raise SimulationError(f"simulate: solve_ivp failed ({sol.message})")
+    t_stop = float(sol.t[-1])
+    made = (float(sol.y[0, -1]) - th0) / TWO_PI
+    n = max(2, int(math.ceil(per_rev * max(abs(made), 1.0 / per_rev)))) + 1
+    t = np.linspace(0.0, t_stop, n)
+    y = sol.sol(t)
+    y[:, -1] = sol.y[:, -1]
+    if len(sol.t_events[0]) and (not len(sol.t_events[1])
+                                 or sol.t_events[0][0] <= sol.t_events[1][0]):
+        result.stalled, result.finished = True, False
+        result.message = (f"stalled: the crank stopped at THETA 2 = "
+                          f"{math.degrees(float(sol.y[0, -1])):.6g} deg after "
+                          f"{t_stop:.6g} s and {made:.4g} revolutions; the motor cannot "
+                          "carry the linkage over it (it would turn back)")
+    elif len(sol.t_events[1]):
+        result.message = (f"{revs:g} revolutions in {t_stop:.6g} s; the crank speed ended "
+                          f"at {float(sol.y[1, -1]):.6g} rad/sec")
+    else:
+        result.finished = False
+        result.message = (f"stopped at t_max = {t_end:.6g} s after {made:.4g} of "
+                          f"{revs:g} revolutions (the crank barely turns)")
+    return t, y[0], y[1]
+
+
+def _steady(accel, solve_ivp, brentq, th0, w0, per_rev, method, rtol, atol):
+    """One revolution of the periodic motion through th0: shooting on its speed."""
+    def rev(w_start, dense=False):
+        floor = 1e-6 * abs(w_start)
+
+        def rhs(th, y):
+            return [1.0 / y[1], accel(th, y[1]) / y[1]]
+
+        def slow(_th, y):
+            return y[1] - floor
+        slow.terminal, slow.direction = True, -1
+        sol = solve_ivp(rhs, (th0, th0 + TWO_PI), [0.0, w_start], method=method,
+                        rtol=rtol, atol=[atol, atol], events=[slow], dense_output=dense)
+        if sol.status != 0:
+            return None
+        return sol
+
+    def f(w_start):
+        sol = rev(w_start)
+        return None if sol is None else float(sol.y[1, -1]) - w_start
+
+    if not w0 > 0.0:
+        raise SimulationError(f"steady: speed0 = {w0:g} rad/sec: give a positive guess of "
+                              "the mean speed")
+    tol = 100.0 * rtol * w0
+    f0 = f(w0)
+    lo = hi = w0
+    flo = fhi = f0
+    if f0 is None or abs(f0) > tol:
+        for _ in range(60):
+            if fhi is not None and fhi > 0.0:
+                hi *= 1.3
+                fhi = f(hi)
+                if fhi is not None and fhi <= 0.0:
+                    lo, flo = hi / 1.3, f(hi / 1.3)
+                    break
+            else:
+                lo /= 1.3
+                flo = f(lo)
+                if flo is not None and flo >= 0.0:
+                    hi = lo * 1.3
+                    break
+                if flo is None:
+                    raise SimulationError(
+                        f"steady: no periodic steady state: the crank slows down from "
+                        f"every speed down to {lo:.6g} rad/sec, where it stalls within a "
+                        "revolution; the motor cannot carry the linkage")
+        else:
+            raise SimulationError("steady: no periodic steady state found between "
+                                  f"{lo:.6g} and {hi:.6g} rad/sec")
+        ws = brentq(lambda x: f(x) or 0.0, lo, hi, xtol=1e-13 * hi, rtol=4.0 * np.finfo(float).eps)
+    else:
+        ws = w0
+    sol = rev(ws, dense=True)
+    if sol is None:
+        raise SimulationError(f"steady: the crank stalls from {ws:.6g} rad/sec")
+    th = th0 + np.linspace(0.0, TWO_PI, per_rev + 1)
+    y = sol.sol(th)
+    y[:, -1] = sol.y[:, -1]
+    return y[0], th, y[1]

@@ -1,0 +1,220 @@
+"""Coulomb friction in the four pins: the torque it takes, and the power it loses.
+
+``Scene(friction=PinFriction(mu, radius))`` puts the same friction in the four pins;
+a mapping ``{"O2": PinFriction(...), "A": ..., "B": ..., "O4": ...}`` gives each pin its
+own (a pin left out has none).  At a pin of radius r carrying the force F the members
+exert on each other a couple ``mu r |F|`` opposing their relative rotation: at O2 the
+crank's w2, at A w3 - w2, at B w4 - w3, at O4 w4 (rad/sec, CCW +).  Those couples, as
+pure torques on links 2-4, change the pin forces (``statics.pins``, linear) and so their
+own size: per position the fixed point
+
+    T = mu r |F0 + C(T)|
+
+is iterated from the frictionless pin forces F0 (C: the pin forces the couples T take)
+until no pin's torque changes by more than ``tol`` times the largest at that position,
+at most ``max_iter`` times.  The map contracts when ``mu r`` is small beside the links
+and the transmission is good; near a toggle (sin(th3 - th4) -> 0) C grows without bound,
+the iteration diverges, and those positions are NaN in every output friction changes
+(``FRICTION_STATUS`` 2, and a :class:`FrictionWarning` says how many).  A pin whose
+relative rotation is exactly zero (a crank at rest, a rocker at its dead point) has
+static friction of unknown size, taken as zero there (``FRICTION_STATUS`` 1).
+
+Friction is not superposable: the effect ``corrects`` the model's totals (pin forces
+and TORQ) after the other effects are summed.  Outputs: ``TORQ_FRICTION`` (TORQ with
+friction less TORQ without), ``PLOSS_O2``, ``PLOSS_A``, ``PLOSS_B``, ``PLOSS_O4`` (each
+pin's friction power loss, ``mu r |F| |relative rotation|`` with the reported pin force,
+>= 0, in-lb/sec or W), ``FRICTION_ITERATIONS`` and ``FRICTION_STATUS``.  With mu = 0 at
+every pin (or no friction) no step here runs and every output is bit for bit as
+without friction.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sielaff.engine.registry import Effect, step, step_of
+from sielaff.engine.statics import pins
+from sielaff.engine.values import check_value
+
+__all__ = ["PINS", "FrictionWarning", "PinFriction"]
+
+#: The four pins, in the order of the chain: frame-crank, crank-coupler, coupler-rocker,
+#: rocker-frame.
+PINS = ("O2", "A", "B", "O4")
+
+#: The frictionless totals the fixed point starts from, and what it corrects.
+TOTALS = ("FA32X", "FA32Y", "FB34X", "FB34Y", "FOAX", "FOAY", "FOBX", "FOBY", "TORQ")
+
+
+class FrictionWarning(UserWarning):
+    """Some positions' pin friction did not converge: their results are NaN."""
+
+
+@dataclass(frozen=True)
+class PinFriction:
+    """Coulomb friction in a pin (see the module doc).
+
+    Parameters
+    ----------
+    mu : float
+        Coefficient of friction [-], >= 0.
+    radius : float
+        The pin's (journal's) radius [in or m], >= 0.
+    tol : float
+        The fixed point stops when no pin's friction torque changes by more than
+        ``tol`` times the largest at that position [-], > 0 (default 1e-13).
+    max_iter : int
+        At most this many iterations [-]; positions not converged by then are NaN.
+    """
+
+    mu: float
+    radius: float
+    tol: float = 1e-13
+    max_iter: int = 100
+
+    def __post_init__(self) -> None:
+        for name in ("mu", "radius", "tol"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or np.ndim(v) != 0:
+                raise ValueError(f"PinFriction.{name} = {v!r}: a number")
+            v = check_value(f"PinFriction.{name}", v)
+            if v < 0.0 or (name == "tol" and not v > 0.0):
+                raise ValueError(f"PinFriction.{name} = {v!r}: must be "
+                                 f"{'> 0' if name == 'tol' else '>= 0'}")
+            object.__setattr__(self, name, float(v))
+        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int | np.integer) \
+                or not 1 <= self.max_iter <= 10000:
+            raise ValueError(f"PinFriction.max_iter = {self.max_iter!r}: an integer, 1 to 10000")
+
+
+def check_friction(v: Any) -> Any:
+    """``Scene.friction`` checked: None, a PinFriction, or a mapping pin -> PinFriction
+    (returned as a plain dict in the order of :data:`PINS`)."""
+    if v is None or isinstance(v, PinFriction):
+        return v
+    if not isinstance(v, Mapping):
+        raise ValueError(f"Scene.friction = {v!r}: None, a sielaff.PinFriction or a mapping "
+                         f"of pin names {', '.join(PINS)} to PinFriction")
+    bad = [k for k in v if k not in PINS]
+    if bad:
+        raise ValueError(f"Scene.friction: unknown pin {bad[0]!r} (pins: {', '.join(PINS)})")
+    for k, f in v.items():
+        if not isinstance(f, PinFriction):
+            raise ValueError(f"Scene.friction[{k!r}] = {f!r} is not a sielaff.PinFriction")
+    return {k: v[k] for k in PINS if k in v}
+
+
+def _per_pin(friction: Any) -> dict[str, PinFriction | None]:
+    if friction is None:
+        return dict.fromkeys(PINS)
+    if isinstance(friction, PinFriction):
+        return dict.fromkeys(PINS, friction)
+    return {k: friction.get(k) for k in PINS}
+
+
+def _signs(TH2D, TH3D, TH4D):
+    """The sign of each pin's relative rotation (O2, A, B, O4)."""
+    return (np.sign(TH2D), np.sign(TH3D - TH2D), np.sign(TH4D - TH3D), np.sign(TH4D))
+
+
+def couples(t, sg):
+    """The moments on links 2, 3, 4 of the friction couples ``t`` (O2, A, B, O4) whose
+    relative rotations have signs ``sg``: each opposes its member's rotation relative to
+    the other member (on 3 at A: -sgn(w3 - w2) T_A; on 2 the reaction)."""
+    m2 = sg[1] * t[1] - sg[0] * t[0]
+    m3 = sg[2] * t[2] - sg[1] * t[1]
+    m4 = -(sg[2] * t[2]) - sg[3] * t[3]
+    return m2, m3, m4
+
+
+@step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
+                "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4",
+                "FRICTION_ITERATIONS", "FRICTION_STATUS"),
+      needs=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4", "friction_tol", "friction_max_iter",
+             "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0",
+             "FOBY_0", "TH2D", "TH3D", "TH4D", "R2", "R3", "R4", "c2", "s2", "c3", "s3",
+             "c4", "s4", "s34"),
+      zero_when=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"))
+def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
+              FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
+              TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
+    geo = (R2, R3, R4, c2, s2, c3, s3, c4, s4, s34)
+    f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
+    shape = np.broadcast_shapes(*(np.shape(x) for x in f0 + geo + (TH2D, TH3D, TH4D)))
+    n = int(np.prod(shape))
+
+    def flat(x):
+        return np.broadcast_to(np.asarray(x, dtype=float), shape).reshape(-1)
+
+    geo_f = [flat(x) for x in geo]
+    f0_f = [flat(x) for x in f0]
+    sg = [flat(x) for x in _signs(TH2D, TH3D, TH4D)]
+
+    def torques(f):
+        """mu r |F| at O2 (FOA), A (FA32), B (FB34), O4 (FOB)."""
+        return (MUR_O2 * np.hypot(f[4], f[5]), MUR_A * np.hypot(f[0], f[1]),
+                MUR_B * np.hypot(f[2], f[3]), MUR_O4 * np.hypot(f[6], f[7]))
+
+    def forces(t, idx):
+        """The pin forces and TORQ share of the couples t at positions idx."""
+        m2, m3, m4 = couples(t, [s[idx] for s in sg])
+        return pins(0.0, 0.0, m2, 0.0, 0.0, m3, 0.0, 0.0, m4, *[g[idx] for g in geo_f])
+
+    corr = [np.zeros(n) for _ in range(9)]
+    iterations = np.zeros(n)
+    idx = np.flatnonzero(np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0))
+    t = torques([f[idx] for f in f0_f])
+    for k in range(1, friction_max_iter + 1):
+        c = forces(t, idx)
+        new = torques([f0_f[i][idx] + c[i] for i in range(8)])
+        change = np.max(np.abs(np.array(new) - np.array(t)), axis=0)
+        scale = np.max(np.array(new), axis=0)
+        blown = ~np.isfinite(scale)
+        done = (change <= friction_tol * scale) & ~blown  # False for NaN and inf
+        for i in range(9):
+            corr[i][idx[done]] = c[i][done]
+        iterations[idx[done]] = k
+        keep = ~done & ~blown
+        idx, t = idx[keep], [x[keep] for x in new]
+        if not idx.size:
+            break
+    status = np.where(np.any(np.array(sg) == 0.0, axis=0), 1.0, 0.0)
+    failed = iterations == 0.0
+    finite = np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0)
+    bad = failed & finite
+    status[bad] = 2.0
+    for x in corr:
+        x[failed] = np.nan
+    if np.any(bad):
+        warnings.warn(f"pin friction did not converge at {int(np.count_nonzero(bad))} of {n} "
+                      "positions (near a toggle the pin forces grow without bound): their "
+                      "results are NaN (FRICTION_STATUS 2)", FrictionWarning, stacklevel=2)
+    # each pin's loss from the reported force: mu r |F| |relative rotation|
+    final = torques([f0_f[i] + corr[i] for i in range(8)])
+    rel = [np.abs(flat(w)) for w in (TH2D, TH3D - TH2D, TH4D - TH3D, TH4D)]
+    loss = [np.where(sg[i] == 0.0, 0.0, final[i] * rel[i]) for i in range(4)]
+    for x in loss:
+        x[failed] = np.nan
+    out = corr + loss + [iterations, status]
+    return tuple(x.reshape(shape) for x in out)
+
+
+def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
+    per = _per_pin(scene.friction)
+    ns: dict[str, Any] = {f"MUR_{k}": 0.0 if f is None else f.mu * f.radius
+                          for k, f in per.items()}
+    given = [f for f in per.values() if f is not None]
+    ns["friction_tol"] = min((f.tol for f in given), default=1e-13)
+    ns["friction_max_iter"] = max((f.max_iter for f in given), default=100)
+    return ns
+
+
+EFFECT = Effect("friction", (step_of(_friction),), _seed, torque="TORQ_FRICTION",
+                corrects={**{t: t.lower() + "_f" for t in TOTALS[:-1]},
+                          "TORQ": "TORQ_FRICTION"},
+                switch=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"))

@@ -1,0 +1,329 @@
+"""``sielaff synth SPEC.toml [-o RANKED.csv] [--write-best DIR]``: synthesis, ranked.
+
+The spec's ``[synthesis]`` table names the problem and the ranking; its ``[scene]`` is the
+scene every candidate is analysed in (docs/synthesis.md, decks/synth.toml)::
+
+    [synthesis]
+    problem = "crank_rocker"          # crank_rocker, function, motion or path
+    by = ["TORQ_PEAK", "SHAK_PEAK"]   # ranking figures, the first deciding
+    pareto = ["TORQ_RMS", "SHAK_PEAK"]  # the Pareto front's two figures
+    speed = 10.0                      # TH2D of every candidate, rad/sec
+    angles = 360                      # crank angles per revolution
+    cf = 0.05                         # coefficient of speed fluctuation (FLYWHEEL_I)
+    best = 3                          # how many --write-best writes
+    density = 0.2836                  # optional mass model (lb/in^3 or kg/m^3) ...
+    area = 0.5                        # ... and cross-section (in^2 or m^2): uniform bars
+    [synthesis.crank_rocker]          # the problem's parameters (the function's keywords)
+    swing = 45.0
+    time_ratio = 1.25
+    rocker = 10.0
+    members = 8                       # crank_rocker only: members per interval of k
+    [synthesis.vary]                  # optional: alternatives of any parameter; every
+    rocker = [8.0, 10.0]              # combination is one problem, its results candidates
+
+``function`` takes ``f`` by name (:data:`FUNCTIONS`), ``x_range``, ``input_range``,
+``output_range``, ``points``, ``frame``; ``motion`` ``poses``, ``moving``, ``fixed``,
+``direction``; ``path`` ``points``, ``crank_angles``, ``starts``, ``seed``.  A problem
+that has no solution is skipped and counted; none at all is an error.
+
+Output: one CSV row per candidate, best first: ``RANK``, ``CANDIDATE`` (its index in
+the order solved), ``PROBLEM`` (which combination of [synthesis.vary]), ``BRANCH``,
+``PARETO`` (1 on the front), the 17 fields and the figures, each header naming its unit.
+``--write-best DIR`` writes the ``best`` first ones as ``DIR/best-K.toml`` (a spec with
+the input's [scene], the candidate's branch and a [[range]] of 0 to 350 deg by 10), and
+``DIR/best-K.dat`` (a deck) where a deck can hold it; both carry each field rounded to
+the most decimals an 8-column card field holds (every command reads a spec through its
+deck), so a field keeps 5 to 7 significant digits.  A deck needs in-lb-sec, the open
+branch, a 1966 scene (no gravity, loads or crank acceleration; TEX is the run's --tex)
+and a crank-rocker.  All files are written whole or not at all.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+import sys
+from decimal import Decimal
+from typing import Any
+
+import numpy as np  # module level: the ulp-nudge harness reaches the functions f names
+
+#: The functions ``[synthesis.function] f`` may name.
+FUNCTIONS = ("log10", "log", "exp", "sqrt", "square", "cube", "reciprocal", "sin", "cos",
+             "tan")
+PROBLEMS = {
+    "crank_rocker": ("swing", "time_ratio", "rocker", "k_max", "members"),
+    "function": ("f", "x_range", "input_range", "output_range", "points", "frame", "samples"),
+    "motion": ("poses", "moving", "fixed", "direction"),
+    "path": ("points", "crank_angles", "starts", "seed"),
+}
+KEYS = ("problem", "by", "pareto", "speed", "angles", "cf", "best", "density", "area",
+        "vary", *PROBLEMS)
+#: Problems a spec may make (the product of [synthesis.vary]).
+MAX_PROBLEMS = 1000
+
+
+def _plain(v: Any) -> Any:
+    """TOML values (Decimals) as floats, lists recursively."""
+    if isinstance(v, Decimal):
+        return float(v)
+    if isinstance(v, list):
+        return [_plain(x) for x in v]
+    return v
+
+
+def _function(name: Any):
+    table = {"log10": np.log10, "log": np.log, "exp": np.exp, "sqrt": np.sqrt,
+             "square": np.square, "cube": lambda x: x ** 3, "reciprocal": np.reciprocal,
+             "sin": np.sin, "cos": np.cos, "tan": np.tan}
+    if name not in table:
+        raise ValueError(f"f = {name!r}: one of {', '.join(FUNCTIONS)}")
+    return table[name]
+
+
+def read_synthesis(spec: dict, path: str) -> dict:
+    """The ``[synthesis]`` table checked: problem, params (list of dicts), ranking."""
+    from sielaff.synthesis.rank import RANKABLE
+    from sielaff.tools.spec import PunchError
+
+    table = spec.get("synthesis")
+    if not isinstance(table, dict) or not table:
+        raise PunchError(f"{path}: no [synthesis] table (decks/synth.toml has one)")
+    where = f"{path}: [synthesis]"
+    extra = [k for k in table if k not in KEYS]
+    if extra:
+        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(KEYS)})")
+    problem = table.get("problem")
+    if problem not in PROBLEMS:
+        raise PunchError(f"{where} problem = {problem!r}: one of {', '.join(PROBLEMS)}")
+    params = table.get(problem, {})
+    if not isinstance(params, dict):
+        raise PunchError(f"{where}.{problem}: expected a table")
+    bad = [k for k in params if k not in PROBLEMS[problem]]
+    if bad:
+        raise PunchError(f"{where}.{problem}: unknown key {bad[0]!r} (expected: "
+                         f"{', '.join(PROBLEMS[problem])})")
+    vary = table.get("vary", {})
+    if not isinstance(vary, dict):
+        raise PunchError(f"{where}.vary: expected a table")
+    for k, v in vary.items():
+        if k not in PROBLEMS[problem]:
+            raise PunchError(f"{where}.vary: {k!r} is not a parameter of {problem} "
+                             f"({', '.join(PROBLEMS[problem])})")
+        if not (isinstance(v, list) and v):
+            raise PunchError(f"{where}.vary {k}: a list of alternatives")
+    size = math.prod(len(v) for v in vary.values())
+    if size > MAX_PROBLEMS:
+        raise PunchError(f"{where}.vary: {size} problems, more than {MAX_PROBLEMS}")
+    base = {k: _plain(v) for k, v in params.items()}
+    combos = [dict(zip(vary, c)) for c in itertools.product(*vary.values())] or [{}]
+    problems = [base | {k: _plain(v) for k, v in c.items()} for c in combos]
+    by = table.get("by", ["TORQ_PEAK"])
+    if not (isinstance(by, list) and by and all(b in RANKABLE for b in by)):
+        raise PunchError(f"{where} by = {by!r}: a list of {' '.join(RANKABLE)}")
+    pareto = table.get("pareto")
+    if pareto is not None and not (isinstance(pareto, list) and len(pareto) == 2
+                                   and all(p in RANKABLE for p in pareto)):
+        raise PunchError(f"{where} pareto = {pareto!r}: two of {' '.join(RANKABLE)}")
+    out: dict[str, Any] = {"problem": problem, "problems": problems, "by": by,
+                           "pareto": pareto, "vary": list(vary)}
+    for key, default, lo, hi in (("speed", 1.0, -1e6, 1e6), ("cf", 0.05, 0.0, 2.0)):
+        v = table.get(key, default)
+        if isinstance(v, bool) or not isinstance(v, int | float | Decimal) \
+                or not lo < float(v) < hi or float(v) == 0.0:
+            raise PunchError(f"{where} {key} = {v!r}: a non-zero number between {lo:g} "
+                             f"and {hi:g}")
+        out[key] = float(v)
+    for key, default, lo, hi in (("angles", 360, 8, 100_000), ("best", 1, 0, 1000)):
+        v = table.get(key, default)
+        if not (isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi) \
+                or (key == "angles" and v % 2):
+            raise PunchError(f"{where} {key} = {v!r}: a whole number from {lo} to {hi}"
+                             + (", even" if key == "angles" else ""))
+        out[key] = v
+    model = {}
+    for key in ("density", "area"):
+        if key in table:
+            v = table[key]
+            if isinstance(v, bool) or not isinstance(v, int | Decimal) or not float(v) > 0 \
+                    or not math.isfinite(float(v)):
+                raise PunchError(f"{where} {key} = {v!r}: a positive number")
+            model[key] = float(v)
+    out["mass_model"] = model or None
+    return out
+
+
+def solve(problem: str, params: dict, speed: float, units: str, where: str) -> list:
+    """The candidates one problem gives (ValueError: it has none)."""
+    from sielaff import synthesis
+
+    p = dict(params)
+    try:
+        if problem == "crank_rocker":
+            members = p.pop("members", 8)
+            if not (isinstance(members, int) and 1 <= members <= 100):
+                raise ValueError(f"members = {members!r}: a whole number from 1 to 100")
+            fam = synthesis.crank_rocker(th2d=speed, units=units, **p)
+            return fam.members(members)
+        if problem == "function":
+            p["f"] = _function(p.get("f"))
+            return [synthesis.function(th2d=speed, units=units, **p)]
+        if problem == "motion":
+            res = synthesis.motion(th2d=abs(speed), units=units, **p)
+        else:
+            res = synthesis.path(th2d=abs(speed), units=units, **p)
+        if res.defects:
+            raise ValueError(res.defects[0])
+        return [res]
+    except TypeError as exc:  # a missing or mistyped parameter
+        raise ValueError(f"{problem}: {exc}") from None
+
+
+def _cell(v: float) -> str:
+    return repr(float(v))
+
+
+def cmd_synth(args) -> int:
+    from sielaff import synthesis
+    from sielaff.design.figures import FIGURES
+    from sielaff.engine.classify import KINDS, linkage_class
+    from sielaff.mechanism import FIELD_NAMES
+    from sielaff.quantities import unit
+    from sielaff.tools.common import CommandError, refuse_bad_output
+    from sielaff.tools.output import atomic_files
+    from sielaff.tools.spec import PunchError, read_spec, scene_of
+
+    path = args.spec
+    refuse_bad_output(args.output, [path])
+    if args.write_best and os.path.exists(args.write_best) and \
+            not os.path.isdir(args.write_best):
+        raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
+    if not path.endswith(".toml"):
+        raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
+    if not os.path.lexists(path):
+        raise CommandError(f"{path}: no such spec")
+    try:
+        spec = read_spec(path)
+        units, scene = scene_of(spec, path)
+        task = read_synthesis(spec, path)
+    except PunchError as exc:
+        raise CommandError(str(exc), exc.status) from None
+    cands, origin, refused = [], [], []
+    for i, params in enumerate(task["problems"]):
+        where = f"{path}: [synthesis.{task['problem']}]"
+        try:
+            got = solve(task["problem"], params, task["speed"], units, where)
+        except ModuleNotFoundError as exc:
+            raise CommandError(f"sielaff: {exc}") from None
+        except ValueError as exc:
+            refused.append(f"{where} problem {i}: {exc}")
+            continue
+        cands += got
+        origin += [i] * len(got)
+    if not cands:
+        raise CommandError(refused[0] if len(refused) == 1 else
+                           f"{path}: none of the {len(refused)} problems has a solution "
+                           f"(the first: {refused[0]})")
+    try:
+        r = synthesis.rank(cands, scene=scene, by=task["by"], pareto=task["pareto"],
+                           mass_model=task["mass_model"], n=task["angles"], cf=task["cf"])
+    except ValueError as exc:
+        raise CommandError(f"{path}: {exc}") from None
+    front = set(int(i) for i in r.pareto)
+    figs = [f for f in FIGURES if f != "KIND"]
+    header = (["RANK", "CANDIDATE", "PROBLEM", "BRANCH", "PARETO"]
+              + [f"{n}[{unit(n, units)}]" for n in FIELD_NAMES]
+              + [f"{f}[{unit(FIGURES[f][0], units)}]" for f in figs] + ["KIND"])
+    lines = [",".join(header)]
+    for rank_, i in enumerate(r.order, 1):
+        m = r.mechanisms[i]
+        lines.append(",".join(
+            [str(rank_), str(int(i)), str(origin[i]), r.branches[i], str(int(i in front))]
+            + [_cell(getattr(m, n)) for n in FIELD_NAMES]
+            + [_cell(r.figures[f][i]) for f in figs] + [KINDS[int(r.figures["KIND"][i])]]))
+    csv_text = "\n".join(lines) + "\n"
+    written: list[tuple[str, str]] = []
+    notes: list[str] = []
+    if args.write_best:
+        for k, i in enumerate(r.order[:task["best"]], 1):
+            m, branch = r.mechanisms[i], r.branches[i]
+            base = {key: v for key, v in spec.items() if key == "scene"}
+            base.setdefault("scene", {})
+            base["scene"] = dict(base["scene"]) | {"branch": branch, "units": units}
+            text = _spec_text(m, base, f"candidate {int(i)} of {path}, ranked {k} by "
+                              f"{', '.join(task['by'])} (sielaff synth)")
+            name = os.path.join(args.write_best, f"best-{k}")
+            written.append((name + ".toml", text))
+            deck, why = _deck_text(m, branch, scene, base, path, linkage_class, int(i))
+            if deck is not None:
+                written.append((name + ".dat", deck))
+            else:
+                notes.append(f"  no deck for best-{k}: {why}")
+    paths = ([args.output] if args.output else []) + [p for p, _ in written]
+    with atomic_files(paths) as temps:
+        texts = ([csv_text] if args.output else []) + [t for _, t in written]
+        for tmp, text in zip(temps, texts):
+            with open(tmp, "w", newline="") as f:
+                f.write(text)
+        if not args.output:
+            sys.stdout.write(csv_text)
+    ok = int(np.isfinite(r.figures[task["by"][0]]).sum())
+    msg = (f"sielaff synth: {len(cands)} candidates from {len(task['problems'])} "
+           f"{task['problem']} problem(s) ({len(refused)} without a solution), "
+           f"{ok} with a full cycle, ranked by {', '.join(task['by'])}; Pareto front of "
+           f"{' and '.join(r.pareto_by)}: {len(r.pareto)}"
+           + (f" -> {args.output}" if args.output else ""))
+    if written:
+        msg += f"; wrote {', '.join(p for p, _ in written)}"
+    print("\n".join([msg] + notes), file=sys.stderr)
+    return 0
+
+
+def _fit(value: float) -> Decimal:
+    """``value`` rounded to the most decimals an 8-column card field holds (the spec is
+    read through a deck by every command, so its numbers must punch)."""
+    from sielaff.tools.spec import punch_field
+
+    d = Decimal(repr(float(value) + 0.0))
+    for digits in range(7, -1, -1):
+        q = d.quantize(Decimal(1).scaleb(-digits))
+        try:
+            punch_field(q)
+        except ValueError:
+            continue
+        return q
+    raise ValueError(f"{float(value):g} does not fit an 8-column field")
+
+
+def _values(m) -> dict:
+    from sielaff.mechanism import FIELD_NAMES
+
+    return {n: _fit(getattr(m, n)) for n in FIELD_NAMES}
+
+
+RANGE = [(Decimal("0.0"), Decimal("10.0"), Decimal("350.0"))]
+
+
+def _spec_text(m, base: dict, header: str) -> str:
+    from sielaff.tools.spec import spec_dict, spec_text
+
+    return spec_text(spec_dict(_values(m), RANGE, base), header)
+
+
+def _deck_text(m, branch, scene, base, path, linkage_class, i) -> tuple[str | None, str]:
+    """A deck for candidate ``m`` where one can hold it, else (None, why not)."""
+    from sielaff.tools.spec import PunchError, punch_deck, spec_dict
+
+    if m.units != "in-lb-sec":
+        return None, "a 1966 deck is in in-lb-sec units"
+    if branch != "open":
+        return None, "it runs on the crossed branch; the 1966 program solves the open one"
+    if not scene.is_1966:
+        return None, "the [scene] has effects a 1966 deck cannot carry"
+    if not bool(linkage_class(m).turns_fully):
+        return None, "the crank does not turn fully (the 1966 program needs a crank-rocker)"
+    try:
+        return punch_deck(spec_dict(_values(m), RANGE, {}), f"candidate {i}"), ""
+    except (PunchError, ValueError) as exc:
+        return None, str(exc)
