@@ -36,7 +36,9 @@ if missing).
 from __future__ import annotations
 
 import argparse
+import atexit
 import importlib.util
+import os
 import re
 import shutil
 import statistics
@@ -130,6 +132,7 @@ def main(argv=None) -> int:
         source.write_text(silent_source(fortran.DECK_SOURCE.read_text()))
         exe = fortran.build(opt="-O2", source=source)
     work = tempfile.mkdtemp(prefix="sielaff-bench-")
+    atexit.register(shutil.rmtree, work, True)  # the deck and gfortran's units: nothing left
     Path(work, "fort.1").write_text(deck_text)
     answer = {}
 
@@ -251,13 +254,18 @@ def compiled_section(args, m, ath2, gfortran) -> int:
          "reused arrays, one thread", run(results + parts, **scene)),
         (f"compiled, all {len(results)} results into reused arrays, two threads",
          run(results, threads=2)),
+        (f"`analyze(..., backend='numba', out=...)`, all {len(results)} results, one thread",
+         lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results},
+                                backend="numba")),
     ]
     for _, fn in configs:  # compile (or load numba's cache) outside the timing
         fn()
-    series = []
+    series, loads = [], []
     for name, fn in configs:
         print(f"  {name} ...", file=sys.stderr)
+        before = os.getloadavg()[0]
         series.append(rounds(name, fn, gfortran, args.rounds))
+        loads += [before, os.getloadavg()[0]]
     # the error against the numpy engine over this run, relative to each output's scale
     got, bad = compiled.compiled_analyze(p, ath2, wanted=results)
     ref = engine.analyze(m, ath2)
@@ -283,11 +291,14 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"configuration in each of {args.rounds} rounds; median (range).  The ratio is "
         "taken in CPU time (the machine is shared with other jobs, whose load moves wall "
         "time more than CPU time); wall time beside it.  The kernel is compiled (or loaded "
-        "from numba's cache) before the timing.", "",
+        "from its cache) before the timing.  Load average (1 min) over the section: "
+        f"{min(loads):.1f} to {max(loads):.1f} on this machine's {os.cpu_count()} cores "
+        f"(at the start {loads[0]:.1f}, at the end {loads[-1]:.1f}).", "",
         *table(series), "",
         f"* All results, one core, reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
-        f"(goal >= 3x: {'met' if med[0] >= 3 else 'not met'}); fresh arrays {med[1]:.2f}x "
-        "(the pages of 71 new arrays are the difference).",
+        f"(goal >= 3x: {'met' if med[0] >= 3 else 'not met'}); the same through "
+        f"`analyze(..., backend='numba', out=...)` {med[5]:.2f}x; fresh arrays {med[1]:.2f}x "
+        f"({med[0] / med[1]:.1f} times slower: the fresh arrays' pages).",
         f"* Kinematics only: **{med[2]:.2f}x gfortran** (goal >= 5x: "
         f"{'met' if med[2] >= 5 else 'not met'}).",
         f"* Crank acceleration, gravity and two loads (75 outputs): {med[3]:.2f}x gfortran, "

@@ -24,7 +24,9 @@ How it is fast (issue 25: why the first numba loop lost to gfortran)
       call).
     * The arithmetic of each step is the numpy step's, in the same order (numba does not
       contract to FMA without fastmath), so the two paths differ only by the
-      transcendentals.
+      transcendentals, and where TH2DD is a constant, by AA and AG2 taken as turning
+      with the crank (``_ACC2_SHORTCUT``: magnitude R2 K, direction ATH2 + a constant;
+      no atan2 or sqrt per position).
 
 Error bound (stated and tested in tests/test_compiled.py, against the numpy engine):
     sin, cos and atan2 here are within about 1 ulp of the correctly rounded value, as
@@ -38,9 +40,12 @@ Error bound (stated and tested in tests/test_compiled.py, against the numpy engi
     direction is only as good as its components), at every position at least
     ``CONDITION_LIMIT`` from a toggle (``|sin GAMMA| >= 0.25``).  Nearer a toggle the
     position itself is ill-conditioned in the crank angle (a rounding of cos TH2 moves
-    H by eps / sin^2 GAMMA relatively, and the accelerations divide by sin GAMMA once
+    H by eps / sin^2 GAMMA relatively, and each derivative divides by sin GAMMA once
     more), so neither path is more right than the other; there the bound is multiplied
-    by ``(0.25 / sin GAMMA)^3``.  NaN and infinities exactly where the numpy engine has
+    by ``(0.25 / sin GAMMA) ** CONDITION_POWER[kind]``: 2 for angles, 3 for rates and
+    velocities, 4 for angular accelerations and accelerations, 5 for forces and torques
+    (a drawn rocker-crank whose crank swings only near its toggles, |sin GAMMA| = 0.16,
+    showed forces 1.7 times past the cube).  NaN and infinities exactly where the numpy engine has
     them, except at a toggle to within roundoff (|sin GAMMA| < 1e-6), where either
     engine's rates are infinite or NaN by the luck of rounding (0 / 0, inf - inf).
     Not covered: change-point linkages (s + l = p + q within 1%) other than at their
@@ -52,14 +57,29 @@ Semantics (those of the numpy engine after issue 20's fixes):
     GAMMA in [0, 180] on both branches; a zero vector's direction is 0; a position is
     assembled when each linear factor of Heron's product is >= -tol, tol =
     ``ASSEMBLY_TOL_EPS`` eps (R1+R2+R3+R4) (a factor in [-tol, 0) is taken as 0);
-    ATH2 is reduced modulo 360 element by element.
+    ATH2 is reduced modulo 360 element by element; an output that depends on the
+    position is NaN where the loop cannot close, a skipped step's 0.0 included.
 
 Anything else (a function of the angle for TEX, TH2DD or a load field, arrays of designs,
-crank angles past 2^50 degrees, an output not in SUPPORTED) is a ValueError in one line.
-The package works without numba: importing this module does not import numba; the first
-call of a request compiles its kernel (tens of seconds), written to a file so that numba's
-cache keeps it for later processes.  This module reads better whole: the scalar steps,
-the generator that writes one kernel from them and the helpers it inlines are one design.
+crank angles past 2^50 degrees, an output not in SUPPORTED; through ``analyze``, pin
+friction, springs and dampers) is a ValueError in one line.  The package works without
+numba: importing this module does not import numba, and ``backend="numba"`` without it
+is an ImportError in one line naming the ``fast`` extra.
+
+The kernel cache
+    The first call of a request compiles its kernel (tens of seconds).  To keep the
+    machine code for later processes the kernel's source is written, once, as a module
+    named by its hash (a temporary file renamed: whole or not at all) into
+    ``$SIELAFF_KERNEL_DIR``, else ``$XDG_CACHE_HOME/sielaff/kernels``, else
+    ``~/.cache/sielaff/kernels``, and imported from there, numba's own cache beside it
+    (``__pycache__``).  Nothing is written anywhere else (not in the package, not in the
+    working directory).  ``SIELAFF_KERNEL_DIR=off`` turns the cache off; a folder that
+    cannot be made or written (a read-only home) is no cache: the kernel is then
+    compiled in memory for this process alone, silently.  The folder only grows by one
+    small module per request shape; deleting it is always safe.
+
+This module reads better whole: the scalar steps, the generator that writes one kernel
+from them and the helpers it inlines are one design.
 """
 
 from __future__ import annotations
@@ -75,11 +95,13 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ASSEMBLY_TOL_EPS", "CONDITION_LIMIT", "ERROR_BOUND", "SUPPORTED", "available",
-           "compiled_analyze", "compiled_results"]
+__all__ = ["ASSEMBLY_TOL_EPS", "CONDITION_LIMIT", "CONDITION_POWER", "ERROR_BOUND",
+           "KERNEL_DIR_ENV", "SUPPORTED", "available", "compiled_analyze", "compiled_results",
+           "kernel_dir"]
 
 #: The assembly test's tolerance, in units of eps (R1 + R2 + R3 + R4), on each linear
 #: factor of Heron's product: the numpy engine's (issue 20), one source.
+from sielaff.engine.fourbar import FOURBAR  # noqa: E402
 from sielaff.engine.positions import ASSEMBLY_TOL_EPS  # noqa: E402
 
 #: The stated bound: |compiled - numpy| <= ERROR_BOUND * scale of the output (see above).
@@ -87,6 +109,11 @@ ERROR_BOUND = 1e-13
 
 #: |sin GAMMA| below which a position counts as near a toggle (the bound widens there).
 CONDITION_LIMIT = 0.25
+
+#: Near a toggle the bound is multiplied by (CONDITION_LIMIT / |sin GAMMA|) ** power, the
+#: power by the output's kind: each derivative divides by sin GAMMA once more (see above).
+CONDITION_POWER = {"angle": 2, "rate": 3, "velocity": 3, "angular acceleration": 4,
+                   "acceleration": 4, "force": 5, "torque": 5}
 
 EPS = float(np.finfo(float).eps)
 DEGREES = 180.0 / math.pi  # what np.degrees multiplies by
@@ -264,7 +291,18 @@ def _rot_direction(rw, d):
     return d + 0.0
 
 
-_HELPERS = (_mod360, _sincos, _atan2, _link_angle, _direction, _magnitude, _rot_direction,
+def _turned(m, k, ath2, phi):
+    """The direction of a vector of magnitude m at ATH2 + phi (phi in [0, 360)): 0 for
+    the zero vector, NaN at a NaN angle but for a skipped step's 0.0 (k == 0)."""
+    d = _mod360(ath2)
+    d = _mod360(d + phi)
+    d = _select(d >= 360.0, 0.0, d)
+    z = _select(k == 0.0, 0.0, ath2 - ath2)
+    d = _select(m == 0.0, z, d)
+    return d + 0.0
+
+
+_HELPERS = (_turned, _mod360, _sincos, _atan2, _link_angle, _direction, _magnitude, _rot_direction,
             _gamma, _crank)
 _HELPER_ASTS: dict[str, ast.FunctionDef] = {}
 
@@ -432,13 +470,13 @@ f2 = t - R4s
 t = zl - R3s
 f3 = R4s - t
 f4 = t + R4s
-ok = (f2 >= -TOL) & (f3 >= -TOL) & (f4 >= -TOL)
-bad += _select(ok, 0, 1)
+assembled = (f2 >= -TOL) & (f3 >= -TOL) & (f4 >= -TOL)
+bad += _select(assembled, 0, 1)
 f2 = _select(f2 > 0.0, f2, 0.0)
 f3 = _select(f3 > 0.0, f3, 0.0)
 f4 = _select(f4 > 0.0, f4, 0.0)
 hh = (f1 * f2) * (f3 * f4)
-h = _select(ok, math.sqrt(hh), math.nan)
+h = _select(assembled, math.sqrt(hh), math.nan)
 h = h * BRANCH_SIGN
 p = zl2 + R3R4M
 c3 = dx * p
@@ -621,6 +659,22 @@ for _v in _VECTORS:
 
 _PROVIDER = {name: st for st in _STEPS for name in st[0]}
 
+#: With TH2DD a constant, the crank's accelerations turn with it: AA = R2 e^{i ATH2}
+#: (-TH2D^2 + i TH2DD), and AG2 the same from RG2 and ATH2 + ADEL2, so their magnitudes
+#: are R2 K and |RG2| K (K = |TH2D^2 - i TH2DD|, per call) and their directions ATH2 plus a
+#: constant PHI (issue 25's rotating-vector shortcut: no atan2 or sqrt per position).
+#: NaN where ATH2 is not finite, as the components would be, but where the steps are
+#: skipped (K = 0: the plain 0.0).
+_ACC2_SHORTCUT = {
+    "AA": (("AA",), ("ATH2",), (), "AA = R2 * K_ACC2 + _select(K_ACC2 == 0.0, 0.0, ATH2 - ATH2)"),
+    "AG2": (("AG2",), ("ATH2",), (),
+            "AG2 = abs(RG2) * K_ACC2 + _select(K_ACC2 == 0.0, 0.0, ATH2 - ATH2)"),
+    "DAA": (("DAA",), ("ATH2",), (),
+            "DAA = _turned(R2 * K_ACC2, K_ACC2, ATH2, PHI_AA)"),
+    "DAG2": (("DAG2",), ("ATH2",), (),
+             "DAG2 = _turned(abs(RG2) * K_ACC2, K_ACC2, ATH2, PHI_AG2)"),
+}
+
 #: Inputs seeded per call (a scalar parameter, or a per-position array).
 _SEEDS = ("ATH2", "TH2D", "W2", "W3", "W4", "ZI3", "ZI4", "TEX", "TH2DD", "GX", "GY", "NLOADS")
 
@@ -629,16 +683,18 @@ SUPPORTED = tuple(sorted({n for st in _STEPS for n in st[0] if n[0].isupper()}
                         | {"ATH2", "TEX", "TH2DD"}))
 
 
-def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str]):
+def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str], shortcut: bool = False):
     """The steps ``wanted`` needs, in order, each with whether it is skipped (as
-    registry._plan: skipped when one of its zero groups is all known zero)."""
+    registry._plan: skipped when one of its zero groups is all known zero); with
+    ``shortcut`` (TH2DD a constant), AA, AG2 and their directions by ``_ACC2_SHORTCUT``."""
+    provider = dict(_PROVIDER, **_ACC2_SHORTCUT) if shortcut else _PROVIDER
     known: dict[str, bool] = {n: n in zero_seeds for n in _SEEDS}
     order: list[tuple[Any, bool]] = []
 
     def visit(name: str) -> None:
         if name in known:
             return
-        st = _PROVIDER[name]
+        st = provider[name]
         skipped = any(all(known_zero(n) for n in g) for g in st[2])
         if not skipped:
             for need in st[1]:
@@ -649,7 +705,7 @@ def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str]):
 
     def known_zero(name: str) -> bool:
         if name not in known:
-            st = _PROVIDER[name]
+            st = provider[name]
             return any(all(known_zero(n) for n in g) for g in st[2])
         return known[name]
 
@@ -668,7 +724,7 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
     """The kernel's Python source for one request (see ``compiled_analyze``): the
     parameters P (``_PARAMS``), the scalar effects S (``scalars``), the per-position
     inputs xin_j (``arrays``), one output o_j per wanted name."""
-    order = _plan(wanted, zero_seeds)
+    order = _plan(wanted, zero_seeds, "K_ACC2" in scalars)
     zero = {n for st, skipped in order if skipped for n in st[0]} | set(zero_seeds)
     body = [f"{name} = 0.0" for name in sorted(zero_seeds)]
     for j, (_, f) in enumerate(loads):
@@ -688,7 +744,12 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
                                            f"s{k} * CA{k} + c{k} * SA{k})")
         body += [x.strip() for x in code.strip().splitlines() if x.strip()]
     body = _inline(body, _helper_asts(), [0])
-    body += [f"sc[{j}, i] = {name}" for j, name in enumerate(wanted)]
+    # as analysis._analyze_numpy: an output that depends on the position is NaN where the
+    # loop cannot close, a skipped step's 0.0 too (when the position was solved at all)
+    solved = any(st[0][0] == "c3" and not skipped for st, skipped in order)
+    body += [f"sc[{j}, i] = _select(assembled, {name}, math.nan)"
+             if solved and name not in _SEEDS and FOURBAR.needs_assembly(name)
+             else f"sc[{j}, i] = {name}" for j, name in enumerate(wanted)]
     args = ", ".join(["th", "P", "S", "sc"] + [f"xin_{j}" for j in range(len(arrays))]
                      + [f"o_{j}" for j in range(len(wanted))])
     return "\n".join([
@@ -739,17 +800,28 @@ def available() -> bool:
     return True
 
 
-def _kernel_dir() -> Path | None:
-    """Where generated kernels are written so that numba can cache their machine code
-    (``SIELAFF_KERNEL_DIR``, else ~/.cache/sielaff/kernels); None if not writable."""
-    root = os.environ.get("SIELAFF_KERNEL_DIR")
-    d = (Path(root) if root else
-         Path(os.environ.get("XDG_CACHE_HOME", "~/.cache")).expanduser() / "sielaff" / "kernels")
+#: The environment variable naming where kernels are cached ("off": no cache).
+KERNEL_DIR_ENV = "SIELAFF_KERNEL_DIR"
+
+
+def kernel_dir() -> Path | None:
+    """Where generated kernels are cached, or None for no cache (see the module's
+    docstring, "The kernel cache"): ``$SIELAFF_KERNEL_DIR`` ("off" for none), else
+    ``$XDG_CACHE_HOME/sielaff/kernels``, else ``~/.cache/sielaff/kernels``; None when
+    that folder cannot be made or written."""
+    root = os.environ.get(KERNEL_DIR_ENV, "")
+    if root.strip().lower() == "off":
+        return None
+    if root:
+        d = Path(root).expanduser()
+    else:
+        d = Path(os.environ.get("XDG_CACHE_HOME") or "~/.cache").expanduser() / "sielaff"
+        d = d / "kernels"
     try:
         d.mkdir(parents=True, exist_ok=True)
-    except OSError:
+    except (OSError, RuntimeError):  # RuntimeError: ~ with no home to expand
         return None
-    return d if os.access(d, os.W_OK) else None
+    return d if os.access(d, os.W_OK | os.X_OK) else None
 
 
 def _module_text(source: str) -> str:
@@ -763,33 +835,53 @@ def _module_text(source: str) -> str:
             "@numba.njit(error_model='numpy', nogil=True, cache=CACHE)\n" + source)
 
 
+def _cached_module(d: Path, name: str, text: str) -> Any:
+    """The kernel's module, written to ``d / name.py`` once (atomically: a temporary file
+    renamed) and imported from there, so that numba's cache (``d/__pycache__``) keeps
+    its machine code; OSError if ``d`` cannot be written or read."""
+    import importlib.util
+
+    path = d / f"{name}.py"
+    if not path.exists():
+        tmp = d / f".{name}.{os.getpid()}.{threading.get_ident()}.tmp"
+        try:
+            tmp.write_text(text.replace("cache=CACHE", "cache=True"))
+            os.replace(tmp, path)
+        finally:
+            tmp.unlink(missing_ok=True)
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise OSError(f"cannot import {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # numba's cache finds the kernel's globals by name
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    return module
+
+
 def _compile(source: str, nargs: int):
     """The kernel of ``source`` compiled, LLVM's limit on runtime alias checks raised
     (``-vectorize-memory-check-threshold``) only while it compiles.  The source goes
     to a file named by its hash, so numba's cache keeps the machine code between
     processes (a kernel takes tens of seconds to compile)."""
     import hashlib
-    import importlib.util
 
     import llvmlite.binding as llvm
     import numba
 
     text = _module_text(source)
     name = "sielaff_kernel_" + hashlib.sha256(text.encode()).hexdigest()[:20]
-    d = _kernel_dir()
+    kernel = None
+    d = kernel_dir()
     if d is not None:
-        path = d / f"{name}.py"
-        if not path.exists():
-            tmp = d / f".{name}.{os.getpid()}.tmp"
-            tmp.write_text(text.replace("cache=CACHE", "cache=True"))
-            os.replace(tmp, path)
-        spec = importlib.util.spec_from_file_location(name, path)
-        assert spec is not None and spec.loader is not None
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module  # numba's cache finds the kernel's globals by name
-        spec.loader.exec_module(module)
-        kernel = module.kernel
-    else:
+        try:
+            kernel = _cached_module(d, name, text).kernel
+        except OSError:  # a cache that cannot be written or read: compile in memory
+            kernel = None
+    if kernel is None:
         ns: dict[str, Any] = {}
         exec(compile(text.replace("cache=CACHE", "cache=False"), name, "exec"), ns)  # noqa: S102
         kernel = ns["kernel"]
@@ -947,6 +1039,14 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
                 vals[key] = v
             f[fname] = key
         load_code.append((link, f))
+    if "TH2DD" in vals:  # a constant: AA and AG2 turn with the crank (_ACC2_SHORTCUT)
+        w2, acc = float(p["TH2D"]) * float(p["TH2D"]), vals["TH2DD"]
+        vals["K_ACC2"] = math.sqrt(w2 * w2 + acc * acc)
+        phi = math.degrees(math.atan2(acc, -w2))
+        vals["PHI_AA"] = float(np.mod(phi, 360.0))
+        turn = 180.0 if float(p["RG2"]) < 0.0 else 0.0  # r e^{i a} = |r| e^{i (a + 180)}
+        vals["PHI_AG2"] = float(np.mod(float(np.mod(float(p["ADEL2"]), 360.0)) + phi + turn,
+                                       360.0))
     for name in ("TH2D", "W2", "W3", "W4", "ZI3", "ZI4"):
         if float(p[name]) == 0.0:
             zero.add(name)
@@ -959,6 +1059,9 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
            tuple((link, tuple(sorted(f.items()))) for link, f in load_code))
     with _LOCK:
         kernel = _KERNELS.get(key)
+        if kernel is None and not available():
+            raise ImportError("backend='numba' needs numba, the fast extra: pip install "
+                              "\"sielaff[fast]\" (or use backend='numpy')")
         if kernel is None:
             src = _source(wanted, frozenset(zero), scalars, arrays, load_code)
             kernel = _KERNELS[key] = _compile(src, 3 + len(arrays) + len(wanted))
