@@ -233,6 +233,9 @@ def compiled_section(args, m, ath2, gfortran) -> int:
     p = dict(m.as_dict())
     p["GW"] = MASS_DIVISOR[m.units]
     results, kin = engine.RESULTS, engine.KINEMATIC_OUTPUTS
+    directions = tuple(k for k in results if k[:1] == "D" and k[1:] in engine.VECTORS)
+    turned = [k for k in directions
+              if k[1:] in compiled._ROTATING or k in compiled._ACC2_SHORTCUT]
     parts = ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")
     outs = {name: np.empty(n) for name in results + parts}
     loads = ((3, 8.0, 10.0, 80.0, 0.0, 0.0), (4, 0.0, 0.0, 0.0, 0.0, 15.0))
@@ -257,6 +260,11 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         (f"`analyze(..., backend='numba', out=...)`, all {len(results)} results, one thread",
          lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results},
                                 backend="numba")),
+        (f"compiled, the {len(results) - len(directions)} results but the "
+         f"{len(directions)} directions, reused arrays, one thread",
+         run(tuple(k for k in results if k not in directions))),
+        (f"no kernel: numpy fills the {len(results)} reused arrays (the memory traffic "
+         "alone)", lambda: [outs[k].fill(0.0) for k in results]),
     ]
     for _, fn in configs:  # compile (or load numba's cache) outside the timing
         fn()
@@ -280,6 +288,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
     same_nan = all(np.array_equal(np.isnan(got[k]), np.isnan(ref[k])) for k in results)
     med = [statistics.median(x.ratio("cpu")) for x in series]
     wall = [statistics.median(x.ratio("wall")) for x in series]
+    cpu = [statistics.median(x.cpu) for x in series]
     import numba
 
     lines = [
@@ -301,6 +310,13 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"({med[0] / med[1]:.1f} times slower: the fresh arrays' pages).",
         f"* Kinematics only: **{med[2]:.2f}x gfortran** (goal >= 5x: "
         f"{'met' if med[2] >= 5 else 'not met'}).",
+        f"* What bounds it (CPU medians of the rows above): writing the {len(results)} "
+        f"arrays alone takes {cpu[7]:.3f} s ({cpu[7] / cpu[0]:.0%} of the kernel's "
+        f"{cpu[0]:.3f} s); leaving out the {len(directions)} directions (an atan2 "
+        f"each, but {len(turned)} taken from a link's angle) saves {cpu[0] - cpu[6]:.3f} s "
+        f"({(cpu[0] - cpu[6]) / cpu[0]:.0%}); gfortran beside them took "
+        f"{statistics.median(series[0].ref_cpu):.3f} s, so 3x gfortran is "
+        f"{statistics.median(series[0].ref_cpu) / 3:.3f} s.",
         f"* Crank acceleration, gravity and two loads (75 outputs): {med[3]:.2f}x gfortran, "
         f"{med[3] / med[0]:.2f}x the 1966 scene's throughput.",
         f"* Two threads (the kernel releases the GIL; the positions split in two): "

@@ -478,3 +478,16 @@ def test_analyze_dispatch_writes_into_out_and_matches():
                    for k, v in analyze(EXAMPLE, th, list(names) + ["GAMMA", "AG3"],
                                        scene=sc).items()}) <= 1.0
     assert not np.array_equal(ref["TORQ"], analyze(EXAMPLE, th, ["TORQ"])["TORQ"])
+
+
+def test_read_only_inputs_find_the_compiled_kernel():
+    """A broadcast view (read-only) of crank angles or a scene array runs the one
+    vectorised kernel compiled for the request: each kernel has one signature and
+    compiles no other (a second, made lazily, would lack the vectoriser's option)."""
+    th = np.broadcast_to(np.linspace(0.0, 360.0, 50), (50,))
+    assert not th.flags.writeable
+    tex = np.broadcast_to(np.float64(2.5), (50,))
+    r = analyze(EXAMPLE, th, ["TORQ", "GAMMA"], tex=tex, backend="numba")
+    ref = analyze(EXAMPLE, th, ["TORQ", "GAMMA"], tex=tex)
+    assert _worst({n: r[n] for n in ("TORQ", "GAMMA")}, dict(ref)) <= 1.0
+    assert C._KERNELS and all(len(k.signatures) == 1 for k in C._KERNELS.values())

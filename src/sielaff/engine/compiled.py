@@ -96,8 +96,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["ASSEMBLY_TOL_EPS", "CONDITION_LIMIT", "CONDITION_POWER", "ERROR_BOUND",
-           "KERNEL_DIR_ENV", "SUPPORTED", "available", "compiled_analyze", "compiled_results",
-           "kernel_dir"]
+           "KERNEL_DIR_ENV", "SUPPORTED", "available", "compiled_analyze", "kernel_dir"]
 
 #: The assembly test's tolerance, in units of eps (R1 + R2 + R3 + R4), on each linear
 #: factor of Heron's product: the numpy engine's (issue 20), one source.
@@ -862,7 +861,7 @@ def _cached_module(d: Path, name: str, text: str) -> Any:
     return module
 
 
-def _compile(source: str, nargs: int):
+def _compile(source: str, n_inputs: int, n_outputs: int):
     """The kernel of ``source`` compiled, LLVM's limit on runtime alias checks raised
     (``-vectorize-memory-check-threshold``) only while it compiles.  The source goes
     to a file named by its hash, so numba's cache keeps the machine code between
@@ -886,13 +885,18 @@ def _compile(source: str, nargs: int):
         exec(compile(text.replace("cache=CACHE", "cache=False"), name, "exec"), ns)  # noqa: S102
         kernel = ns["kernel"]
     arr = numba.types.Array(numba.types.float64, 1, "C")
+    # inputs typed read-only: a writeable array converts to it, and a read-only one (a
+    # broadcast view) then finds this vectorised kernel instead of compiling a new one
+    ro = numba.types.Array(numba.types.float64, 1, "C", readonly=True)
     table = numba.types.Array(numba.types.float64, 2, "C")
     with _LLVM_OPTION:
         llvm.set_option("", "-vectorize-memory-check-threshold=100000")
         try:
-            kernel.compile(numba.types.int64(arr, arr, arr, table, *([arr] * (nargs - 3))))
+            kernel.compile(numba.types.int64(ro, ro, ro, table, *([ro] * n_inputs),
+                                             *([arr] * n_outputs)))
         finally:
             llvm.set_option("", "-vectorize-memory-check-threshold=128")  # LLVM's default
+    kernel.disable_compile()  # no other signature: never a slow, unvectorised twin
     return kernel
 
 
@@ -1064,7 +1068,7 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
                               "\"sielaff[fast]\" (or use backend='numpy')")
         if kernel is None:
             src = _source(wanted, frozenset(zero), scalars, arrays, load_code)
-            kernel = _KERNELS[key] = _compile(src, 3 + len(arrays) + len(wanted))
+            kernel = _KERNELS[key] = _compile(src, len(arrays), len(wanted))
     P = _mechanism_params(p, gx, gy, branch)
     S = np.array([vals[s] for s in scalars], dtype=float)
     result: dict[str, np.ndarray] = {}
@@ -1095,28 +1099,3 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
 
     with ThreadPoolExecutor(threads) as pool:
         return result, sum(pool.map(part, range(threads)))
-
-
-def compiled_results(mechanism, ath2: Any, tex: Any = 0.0, *, th2dd: Any = 0.0,
-                     gravity: Any = None, loads: Any = (), branch: str = "open"
-                     ) -> np.ndarray:
-    """The (71, n) results of RESULTS at the flattened ``ath2`` (the old interface that
-    ``analysis._analyze_compiled`` calls until it calls :func:`compiled_analyze`)."""
-    from sielaff.engine.outputs import RESULTS
-    from sielaff.mechanism import MASS_DIVISOR, STANDARD_GRAVITY
-
-    p = {name: v for name, v in mechanism.as_dict().items()}
-    p["GW"] = MASS_DIVISOR[mechanism.units]
-    if gravity is None:
-        gx = gy = 0.0
-    elif isinstance(gravity, str):
-        gx, gy = 0.0, -STANDARD_GRAVITY[mechanism.units]
-    else:
-        gx, gy = gravity
-    th = np.asarray(ath2, dtype=float).reshape(-1)
-    lds = tuple((ld.link, ld.r, ld.angle, ld.fx, ld.fy, ld.torque) for ld in loads)
-    table = np.empty((len(RESULTS), th.size))
-    compiled_analyze(p, th, tex=tex, th2dd=th2dd, gx=gx, gy=gy, loads=lds,
-                     branch=1.0 if branch == "open" else -1.0, wanted=RESULTS,
-                     out=dict(zip(RESULTS, table, strict=True)))
-    return table
