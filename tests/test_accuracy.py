@@ -241,6 +241,7 @@ def test_cycle_work_vanishes_and_coarsest_step():
     assert bench.coarsest_step(rows, 1e-8, "port_rel") is None  # the port never gets there
 
 
+@pytest.mark.slow
 def test_bench_command_writes_report_and_figure(tmp_path, monkeypatch, capsys):
     from sielaff.cli import main
 

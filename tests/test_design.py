@@ -275,6 +275,7 @@ def test_sweep_in_process_and_on_dask_threads_identical():
     assert np.array_equal(a, b, equal_nan=True)
 
 
+@pytest.mark.slow
 def test_sweep_on_a_local_cluster_identical():
     """The distributed path for real: a LocalCluster of two worker processes."""
     dask = pytest.importorskip("dask")

@@ -191,6 +191,7 @@ ALPHABET = "ABCXYZ0123456789+-*/()=.,  "
 CARDS = SOURCE.splitlines()
 
 
+@pytest.mark.slow
 @settings(max_examples=120, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.tuples(st.integers(0, len(CARDS) - 1), st.integers(0, 71),
@@ -375,6 +376,7 @@ def _fuzz_one(tmp_path_factory, mutations, arith) -> None:
     event(" ".join(re.sub(r"[\d,.'\"]+", "#", kind).split()[:5]))
 
 
+@pytest.mark.slow
 @settings(max_examples=FUZZ_CI, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(_mutants)

@@ -27,6 +27,7 @@ import os
 import tempfile
 import time
 
+import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from hypothesis.control import currently_in_test_context
@@ -131,12 +132,14 @@ def check_run(data: bytes, *extra: str) -> None:
             assert listing == " THIS IS NOT A CRANK ROCKER MECHANISM\n"
 
 
+@pytest.mark.slow
 @settings(PROFILE)
 @given(st.sampled_from([EXAMPLE, FINE]), st.lists(mutation, min_size=1, max_size=5))
 def test_mutated_decks_list_or_fail_in_one_line(deck, mutations):
     check_run(mutate(deck, mutations))
 
 
+@pytest.mark.slow
 @settings(PROFILE, max_examples=max(PROFILE.max_examples // 5, 20))
 @given(st.lists(mutation, min_size=1, max_size=4))
 def test_mutated_decks_kinematics_only_and_rendered(mutations):
@@ -195,6 +198,7 @@ def drawn_decks(draw):
     return b"\n".join(cards) + b"\n"
 
 
+@pytest.mark.slow
 @settings(PROFILE, max_examples=max(PROFILE.max_examples // 2, 50))
 @given(drawn_decks(), st.sampled_from(["run", "check", "table"]),
        st.sampled_from(["float64", "float32", "ibm1410"]), st.sampled_from(OUTPUTS))

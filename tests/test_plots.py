@@ -246,6 +246,7 @@ def test_plot_kinematics_only(tmp_path):
     check_pngs([tmp_path / name for name in KINEMATIC_FILES], 990, 616)
 
 
+@pytest.mark.slow
 def test_plot_not_crank_rocker(tmp_path):
     deck = tmp_path / "deck.dat"
     lines = (DECKS / "example.dat").read_text().splitlines(keepends=True)

@@ -1,10 +1,12 @@
 """``sielaff report``: one self-contained page, checked by a parser and in a real browser.
 
-The browser test opens the page in Debian's headless Chromium through Playwright (the
-``browser`` extra; ``.ci/run`` installs both) and skips, saying why, where either is
-missing.  It checks that the page loads with no console error, that no request leaves
-it, that every image decodes, and that a screenshot is a rendered page: not blank, with
-the title's text drawn where the title is.
+Five pages are made once a session (the example deck, an SI spec, a double crank, the
+sweep spec and the synthesis spec) and every test reads them.  The browser test opens
+each in Debian's headless Chromium through Playwright (the ``browser`` extra; ``.ci/run``
+installs both), one browser for all, and skips, saying why, where either is missing.  It
+checks that the page loads with no console error, that no request leaves it, that every
+image decodes, and that a screenshot is a rendered page: not blank, with the title's
+text drawn where the title is.
 """
 
 from __future__ import annotations
@@ -74,19 +76,41 @@ def _cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
                           text=True, timeout=900, cwd=cwd)
 
 
-@pytest.fixture(scope="module")
+#: The pages the tests read, each made once a session: (name, input, its suffix).
+PAGES = (("example", "example.dat"), ("si", "si.toml"), ("double", "double.dat"),
+         ("sweep", "sweep.toml"), ("synth", "synth.toml"))
+#: The frames of the page's animation (report.py draws 24).
+FRAMES = 24
+
+
+#: Makes each page ``sielaff report SRC -o OUT`` as the command line does (``cli.main``,
+#: which restores the warning filters and the signals after each run), all in one
+#: process: the imports are paid once, not once a page; prints each exit status.
+MAKE_PAGES = """
+import sys
+from sielaff import cli
+for src, out in zip(sys.argv[1::2], sys.argv[2::2]):
+    print(cli.main(["report", src, "-o", out]), flush=True)
+"""
+
+
+@pytest.fixture(scope="session")
 def pages(tmp_path_factory) -> dict[str, str]:
-    """The example deck, an SI spec and a double crank, each made into a page once."""
+    """The example deck, an SI spec, a double crank, the sweep spec and the synthesis
+    spec, each made into a page once a session, by the command's entry point; nothing
+    may reach stderr (no warning, no message)."""
     d = tmp_path_factory.mktemp("report")
     (d / "si.toml").write_text(SI_SPEC)
     (d / "double.dat").write_text(DOUBLE_CRANK)
-    out = {}
-    for name, src in (("example", str(DECKS / "example.dat")), ("si", str(d / "si.toml")),
-                      ("double", str(d / "double.dat"))):
-        target = d / f"{name}.html"
-        r = _cli("report", src, "-o", str(target))
-        assert r.returncode == 0 and r.stderr == "", r.stderr
-        out[name] = str(target)
+    sources = {"example": DECKS / "example.dat", "si": d / "si.toml",
+               "double": d / "double.dat", "sweep": DECKS / "sweep.toml",
+               "synth": DECKS / "synth.toml"}
+    out = {name: str(d / f"{name}.html") for name, _ in PAGES}
+    argv = [str(x) for name, _ in PAGES for x in (sources[name], out[name])]
+    r = subprocess.run([sys.executable, "-c", MAKE_PAGES, *argv], capture_output=True,
+                       text=True, timeout=900)
+    assert r.returncode == 0 and r.stdout.split() == ["0"] * len(PAGES), r.stdout + r.stderr
+    assert r.stderr == "", r.stderr
     return out
 
 
@@ -138,12 +162,14 @@ def _check(path: str) -> _Checker:
     return c
 
 
-@pytest.mark.parametrize("name", ["example", "si", "double"])
+@pytest.mark.parametrize("name", [n for n, _ in PAGES])
 def test_the_page_is_valid_html_and_self_contained(pages, name):
     import matplotlib.image
+    from PIL import Image
 
     c = _check(pages[name])
-    assert len(c.images) >= 2  # the linkage and its animation at least
+    assert len(c.images) >= 2  # the linkage and its animation, or a ranking's two pictures
+    gifs = 0
     for src in c.images:
         mime, _, data = src.partition(";base64,")
         raw = base64.b64decode(data, validate=True)
@@ -152,7 +178,17 @@ def test_the_page_is_valid_html_and_self_contained(pages, name):
             img = matplotlib.image.imread(io.BytesIO(raw), format="png")
             assert img.shape[0] > 100 and img.shape[1] > 100
         else:
+            gifs += 1
             assert raw[:6] in (b"GIF87a", b"GIF89a") and raw[-1:] == b";"
+            with Image.open(io.BytesIO(raw)) as im:  # one cycle: every frame moves
+                assert im.n_frames == FRAMES
+                frames = []
+                for k in range(im.n_frames):
+                    im.seek(k)
+                    frames.append(np.asarray(im.convert("RGB"), dtype=float))
+            assert all(np.abs(a - b).max() > 100 for a, b in zip(frames, frames[1:]))
+            assert all(f.std() > 10 for f in frames)  # drawn, not blank
+    assert gifs == (0 if name == "synth" else 1)
     text = " ".join(" ".join(c.text).split())
     assert "sielaff report" in text and "Made by sielaff" in text
 
@@ -178,15 +214,40 @@ def test_the_double_crank_page_names_its_kind(pages):
     assert "A double-crank" in text and "Peaks" in text
 
 
-def test_bad_input_is_one_line_and_leaves_no_page(tmp_path):
+def test_bad_input_is_one_line_and_leaves_no_page(tmp_path, capsys):
+    from sielaff import cli
+
     target = tmp_path / "r.html"
-    r = _cli("report", str(tmp_path / "missing.dat"), "-o", str(target))
-    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "missing.dat" in r.stderr
+
+    def report(*args: str) -> tuple[int, str]:
+        status = cli.main(["report", *args, "-o", str(target)])
+        return status, capsys.readouterr().err
+
+    status, err = report(str(tmp_path / "missing.dat"))
+    assert status == 2 and err.count("\n") == 1 and "missing.dat" in err
     assert not target.exists()
+    (tmp_path / "bad.dat").write_text("    3.0     8.0\n")
+    status, err = report(str(tmp_path / "bad.dat"))
+    assert status == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert not target.exists() and os.listdir(tmp_path) == ["bad.dat"]
+    # a synthesis spec: its reader's one line; --branch is each candidate's own
+    bad = (DECKS / "synth.toml").read_text().replace('problem = "crank_rocker"',
+                                                     'problem = "cam"')
+    (tmp_path / "bad.toml").write_text(bad)
+    status, err = report(str(tmp_path / "bad.toml"))
+    assert status == 2 and err.count("\n") == 1 and "[synthesis] problem" in err
+    status, err = report(str(DECKS / "synth.toml"), "--branch", "open")
+    assert status == 2 and err.count("\n") == 1 and "--branch" in err
+    assert not target.exists() and sorted(os.listdir(tmp_path)) == ["bad.dat", "bad.toml"]
+
+
+def test_bad_input_from_the_command_line(tmp_path):
+    """The same as a user meets it: a process, its exit status, one line, no traceback."""
+    target = tmp_path / "r.html"
     (tmp_path / "bad.dat").write_text("    3.0     8.0\n")
     r = _cli("report", str(tmp_path / "bad.dat"), "-o", str(target))
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
-    assert not target.exists() and os.listdir(tmp_path) == ["bad.dat"]
+    assert "bad.dat" in r.stderr and not target.exists()
 
 
 def test_a_failure_while_writing_leaves_the_old_page(tmp_path, monkeypatch, capsys):
@@ -225,7 +286,7 @@ def browser():
         b.close()
 
 
-@pytest.mark.parametrize("name", ["example", "si", "double"])
+@pytest.mark.parametrize("name", [n for n, _ in PAGES])
 def test_the_page_in_a_browser(pages, browser, name, tmp_path):
     page = browser.new_page(viewport={"width": 1100, "height": 900})
     errors, requests = [], []
@@ -239,8 +300,7 @@ def test_the_page_in_a_browser(pages, browser, name, tmp_path):
     images = page.eval_on_selector_all(
         "img", "els => els.map(e => [e.complete, e.naturalWidth, e.naturalHeight])")
     assert len(images) >= 2 and all(c and w > 0 and h > 0 for c, w, h in images), images
-    assert page.title() == "sielaff report: " + os.path.basename(pages[name]).replace(
-        ".html", {"example": ".dat", "si": ".toml", "double": ".dat"}[name])
+    assert page.title() == "sielaff report: " + dict(PAGES)[name]
     shot = tmp_path / "shot.png"
     page.screenshot(path=str(shot))
     box = page.locator("h1").bounding_box()
@@ -255,16 +315,13 @@ def test_the_page_in_a_browser(pages, browser, name, tmp_path):
     assert dark > 200, "the title's text is not drawn where the h1 is"
 
 
-def test_a_sweep_spec_gets_its_pareto_front(tmp_path):
+def test_a_sweep_spec_gets_its_pareto_front(pages):
     """decks/sweep.toml: the page holds the sweep's Pareto front, checked against the
     front computed here from the sweep's own figures."""
     from sielaff.design.figures import figures
     from sielaff.tools.common import read_spec_deck
 
-    target = tmp_path / "sweep.html"
-    r = _cli("report", str(DECKS / "sweep.toml"), "-o", str(target))
-    assert r.returncode == 0, r.stderr
-    c = _check(str(target))
+    c = _check(pages["sweep"])
     text = " ".join(" ".join(c.text).split())
     assert "The sweep" in text and "5,002 designs (61 x 41 x 2" in text
     assert "Pareto front of TORQ_RMS and SHAK_PEAK" in text
@@ -275,3 +332,93 @@ def test_a_sweep_spec_gets_its_pareto_front(tmp_path):
     best = np.nanmin(f["TORQ_RMS"])  # unbalanced designs; balanced ones only add torque
     row = text[text.index("TORQ_RMS [in-lb] SHAK_PEAK [lb]"):]
     assert f"{best:.5g}" in row.split("The sweep's designs")[0]
+
+
+class _Table(html.parser.HTMLParser):
+    """The cells of a page's tables, row by row (one list of rows per table)."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.tables: list[list[list[str]]] = []
+        self.cell: list[str] | None = None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.tables.append([])
+        elif tag == "tr":
+            self.tables[-1].append([])
+        elif tag in ("td", "th"):
+            self.cell = []
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self.cell is not None:
+            self.tables[-1][-1].append("".join(self.cell).strip())
+            self.cell = None
+
+    def handle_data(self, data):
+        if self.cell is not None:
+            self.cell.append(data)
+
+
+def test_a_synthesis_spec_gets_its_ranking(pages):
+    """decks/synth.toml: the ranking table, best first, is the ranking computed here
+    through the synthesis API (not the spec reader): the same candidates in the same
+    order with the same figures, the units in the headers, the front marked."""
+    from sielaff import Scene, synthesis
+
+    text = " ".join(" ".join(_check(pages["synth"]).text).split())
+    assert "A synthesis (crank_rocker) in in-lb-sec units" in text
+    assert "32 candidates from 2 problems (0 without a solution): all crank-rockers" in text
+    assert "The best candidates" in text and "[synthesis.crank_rocker]" in text  # the spec
+    families = [synthesis.crank_rocker(45.0, q, rocker=10.0, th2d=10.0).members(8)
+                for q in (1.15, 1.25)]  # [synthesis.vary] time_ratio: problems 0 and 1
+    cands = families[0] + families[1]
+    origin = [0] * len(families[0]) + [1] * len(families[1])
+    r = synthesis.rank(cands, scene=Scene(tex=-50.0), by=["TORQ_PEAK", "SHAK_PEAK"],
+                       pareto=["TORQ_RMS", "GAMMA_MIN"])
+    t = _Table()
+    with open(pages["synth"], encoding="utf-8") as f:
+        t.feed(f.read())
+    table = next(tb for tb in t.tables if tb[0][:2] == ["rank", "cand."])
+    head, rows = table[0], table[1:]
+    assert head == ["rank", "cand.", "problem", "branch", "R1 [in]", "R2 [in]", "R3 [in]",
+                    "R4 [in]", "TORQ_PEAK [in-lb]", "SHAK_PEAK [lb]", "TORQ_RMS [in-lb]",
+                    "GAMMA_MIN [deg]", "Pareto"]
+    assert len(rows) == 20
+    front = {int(i) for i in r.pareto}
+    for k, (row, i) in enumerate(zip(rows, r.order), 1):
+        cell = dict(zip(head, row))
+        assert cell["rank"] == str(k) and cell["cand."] == str(int(i))
+        assert cell["problem"] == str(origin[i]) and cell["branch"] == r.branches[i]
+        assert cell["R2 [in]"] == f"{r.mechanisms[i].R2:.5g}"
+        for fig, u in (("TORQ_PEAK", "in-lb"), ("SHAK_PEAK", "lb"), ("GAMMA_MIN", "deg")):
+            assert cell[f"{fig} [{u}]"] == f"{r.figures[fig][i]:.5g}"
+        assert cell["Pareto"] == ("yes" if int(i) in front else "")
+
+
+def test_a_tolerance_spec_gets_its_table(tmp_path, monkeypatch, capsys):
+    """A spec with a [tolerance] gets the study ``sielaff tolerance`` prints: the page's
+    section is that command's output (a small study, made here twice), and the report
+    reads such a spec's mechanism and scene."""
+    from sielaff import cli
+    from sielaff.tools import report
+
+    spec = tmp_path / "tol.toml"
+    spec.write_text((DECKS / "tolerance.toml").read_text().replace("n = 2000", "n = 40"))
+    seen = {}
+
+    def page(deck, scene, command, at=40.0, tolerances=None):
+        seen.update(deck=deck, scene=scene, tolerances=tolerances)
+        return "<!DOCTYPE html>\n"
+
+    monkeypatch.setattr(report, "report_html", page)
+    assert cli.main(["report", str(spec), "-o", str(tmp_path / "t.html")]) == 0
+    assert seen["deck"].mechanism.R1 == 12.0 and seen["scene"].tex == -200.0
+    assert seen["tolerances"]["n"] == 40 and seen["tolerances"]["deviations"]["W3"] == 0.1
+    section = report.tolerance_section(seen["deck"], seen["scene"], seen["tolerances"])
+    capsys.readouterr()
+    assert cli.main(["tolerance", str(spec)]) == 0
+    printed = capsys.readouterr().out
+    assert section[0] == "<h2>Tolerances</h2>"
+    assert html.unescape(section[1]) == "<pre>" + printed.rstrip("\n") + "</pre>"
+    assert "TORQ_PEAK   in-lb" in printed and "per in R1" in printed

@@ -209,6 +209,7 @@ def _peak_rss_kb_any(args: list[str]) -> int:
     return int(proc.stderr.rsplit("PEAK ", 1)[1].split()[0])
 
 
+@pytest.mark.slow
 # 6. plot interrupted: all files or none ------------------------------------------------------
 def test_06_interrupted_plot_changes_no_file(tmp_path):
     pytest.importorskip("matplotlib")

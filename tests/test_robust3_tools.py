@@ -204,6 +204,7 @@ def test_16_balance_past_the_1410s_range_is_one_line(tmp_path, radius, field):
     assert f"--radius2 {float(radius):g}: the balanced design's {field} would be" in line
 
 
+@pytest.mark.slow
 def test_16_plot_linkage_speaks_of_crank_angles(tmp_path):
     pytest.importorskip("matplotlib")
     deck = tmp_path / "deck.dat"
@@ -261,6 +262,7 @@ class _Server:
         self.sock.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["silent", "http", "refused", "empty"])
 def test_18_scheduler_that_is_not_one_is_one_line_in_bounded_time(tmp_path, kind):
     pytest.importorskip("distributed")

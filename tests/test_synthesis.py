@@ -148,6 +148,7 @@ def test_crank_rocker_outside_k_is_refused():
         fam.member(0.5, "above")
 
 
+@pytest.mark.slow
 @settings(max_examples=60)
 @given(swing=st.floats(5.0, 175.0), Q=st.floats(1.0, 5.0))
 def test_crank_rocker_drawn_problems(swing, Q):
@@ -571,6 +572,7 @@ def test_path_prescribed_crank_angles():
     check_no_defect(res)
 
 
+@pytest.mark.slow
 def test_path_is_reproducible():
     pytest.importorskip("scipy")
     pts = known_curve_points(*PATHS[1][:1], PATHS[1][1], *PATHS[1][2])

@@ -11,6 +11,7 @@ import pytest
 from conftest import ROOT
 
 
+@pytest.mark.slow
 def test_mypy_is_clean_where_pyproject_says():
     pytest.importorskip("mypy")
     proc = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental"], cwd=ROOT,

@@ -128,6 +128,7 @@ def test_si_spec_reads_in_si_everywhere(tmp_path, command):
             assert re.search(rf"\d {re.escape(u)}\b", words), u
 
 
+@pytest.mark.slow
 def test_the_same_figures_in_the_report_units(tmp_path):
     """The detector would catch a figure in the report's units: the example's fig 12 says
     in-lb (so the SI test above is not passing for want of text)."""

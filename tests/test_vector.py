@@ -59,6 +59,7 @@ def test_numpy_matches_libm_here():
     assert np.sin(x).tolist() == [math.sin(v) for v in x.tolist()]
 
 
+@pytest.mark.slow
 def test_the_36001_sheet_deck_byte_for_byte():
     port, fast = both("\n".join(PARAMETERS + ["    0.01    0.01   360.0"]) + "\n")
     assert port == fast
@@ -127,6 +128,7 @@ def decks(draw):
     return "\n".join(cards) + "\n"
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(decks(), st.booleans(), st.sampled_from([0.0, 0.0, 37.5, -2e3]))

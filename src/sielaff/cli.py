@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -28,6 +29,7 @@ from sielaff.emulator.cards import DeckError
 from sielaff.tools.common import (
     EXIT_DECK,
     EXIT_INTERRUPTED,
+    SIGNAL_STATE,
     CommandError,
     Terminated,
     finish_signals,
@@ -110,6 +112,13 @@ def sheet_count(text: str) -> int:
 
 
 # -- parser -----------------------------------------------------------------
+#: The input arguments' help (sielaff help io says it in full).
+INPUT_HELP = ("a deck or a TOML spec (*.toml); - reads either from standard input (a spec "
+              "if its first non-blank line begins with [ or # or holds =): sielaff help io")
+DECK_ONLY_HELP = "the deck; - reads it from standard input: sielaff help io"
+SPEC_HELP = "the TOML spec; - reads it from standard input: sielaff help io"
+OUTPUT_HELP = "write to FILE (atomically); - or none: stdout"
+
 EXAMPLES = {
     "run": "example:\n  sielaff run decks/example.dat -o example.asa\n"
            "  sielaff run decks/example.dat --render | less\n"
@@ -118,14 +127,17 @@ EXAMPLES = {
             "  sielaff diff example.asa golden/figure10.asa",
     "table": "example:\n  sielaff table decks/example.dat -o example.csv\n"
              "  sielaff table decks/example.dat --format json --only kinematics | head -3",
-    "check": "example:\n  sielaff check decks/example.dat",
+    "check": "example:\n  sielaff check decks/example.dat\n"
+             "  sielaff punch decks/example.toml | sielaff check - --format json",
     "plot": "example:\n  sielaff plot decks/example.dat -o plots\n"
             "  sielaff plot decks/example.dat -o plots --only kinematics",
     "punch": "example:\n  sielaff punch decks/example.toml -o my.dat && sielaff check my.dat",
     "help": "example:\n  sielaff help deck",
-    "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md",
+    "bench": "example:\n  sielaff bench --quick\n  sielaff bench -o report/accuracy.md\n"
+             "  sielaff bench --effects -o report/effects.md",
     "balance": "example:\n  sielaff balance decks/example.dat\n"
-               "  sielaff balance decks/scene.toml -o out/balanced.toml",
+               "  sielaff balance decks/scene.toml -o out/balanced.toml\n"
+               "  sielaff balance decks/si.toml -o - 2>/dev/null | sielaff table - | head -3",
     "sweep": "example:\n  sielaff sweep decks/sweep.toml -o out/sweep.csv --plot out/pareto.png\n"
              "  sielaff sweep decks/sweep.toml --workers 1 | head -3",
     "simulate": "example:\n  sielaff simulate decks/motor.toml -o out/motor.csv --plot "
@@ -187,8 +199,8 @@ def build_parser() -> argparse.ArgumentParser:
         return p
 
     p = add("run", "print the 1966 listing for a deck (ASA carriage control in column 1)")
-    p.add_argument("deck")
-    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
+    p.add_argument("deck", help=DECK_ONLY_HELP)
+    p.add_argument("-o", "--output", help=OUTPUT_HELP)
     p.add_argument("--render", action="store_true",
                    help="plain text with form feeds instead of ASA records")
     p.add_argument("--arith", default="float64", metavar="MODEL",
@@ -213,7 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("table", "the modern engine's results for a deck, one row per "
             "position from THZERO to THMAX (CSV or JSON)")
-    p.add_argument("deck")
+    p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")
@@ -225,31 +237,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--header", choices=("units", "names"), default="units",
                    help="CSV header: NAME[unit] (default) or the bare names; JSON always "
                         "has 'units' and 'descriptions' beside 'columns'")
-    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
+    p.add_argument("-o", "--output", help=OUTPUT_HELP)
 
     p = add("diff", "compare a listing with a golden printout, field by field "
             "(either may be --render text); exit 1 if they differ")
-    p.add_argument("listing")
-    p.add_argument("golden")
+    p.add_argument("listing", help="the listing (- reads it from standard input)")
+    p.add_argument("golden", help="the golden printout (- reads it from standard input)")
 
     p = add("bench", "accuracy against cost of the number models, ARCCOS and step "
                                 "size: a table on stdout, and a report with -o (needs mpmath)")
     p.add_argument("--quick", action="store_true",
                    help="fewer ARCCOS points and port steps, one timing round "
                         "(about 10 s instead of about a minute)")
+    p.add_argument("--effects", action="store_true",
+                   help="instead: what accuracy costs in time for pin friction's solve "
+                        "and simulate (rtol, method) and the hard cases, a small grid, "
+                        "one round (needs scipy)")
     p.add_argument("-o", "--output", metavar="REPORT.md",
                    help="also write the markdown report here and its PNG beside it "
                         "(folders created); nothing is written without -o")
     p = add("check", "report on a deck: values, Grashof and crank-rocker margins, "
             "transmission angle, peak loads, cycle work, the 1966 quirks it triggers")
-    p.add_argument("deck")
+    p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")
     p.add_argument("--format", choices=("text", "json"), default="text",
-                   help="text (default) or json: the linkage's kind, Grashof sum and margin, "
-                        "toggles, arcs, status and the report's lines")
-    p.add_argument("-o", "--output", help="write to FILE (atomically) instead of stdout")
+                   help="text (default) or json: the report's facts (kind, Grashof sum and "
+                        "margin, toggles, arcs, limit positions, peaks with their angles, "
+                        "cycle work, flywheel, bearings, verdict), each number as {value, "
+                        "unit}, the status and the report's lines")
+    p.add_argument("-o", "--output", help=OUTPUT_HELP)
     p.add_argument("--crank-rocker", action="store_true",
                    help="require a crank-rocker (the 1966 program's test): exit 3 if not")
 
@@ -260,9 +278,10 @@ def build_parser() -> argparse.ArgumentParser:
             "force-3-on-2.png; with --only kinematics: kin-link-angles.png, "
             "kin-angular-velocity.png, kin-angular-acceleration.png, kin-pin-velocity.png, "
             "kin-pin-acceleration.png")
-    p.add_argument("deck")
+    p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("-o", "--output", required=True, metavar="DIR",
-                   help="directory for the PNG files (created if needed)")
+                   help="directory for the PNG files (created if needed; not -: several "
+                        "files)")
     p.add_argument("--only", choices=("kinematics",),
                    help="kinematics: velocity and acceleration curves instead of the forces")
     p.add_argument("--linkage", action="store_true",
@@ -284,7 +303,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = add("balance", "counterweights on the crank and rocker that cancel the shaking "
             "force (Berkof-Lowen), and what they cost: shaking moment, torque, pin loads")
-    p.add_argument("deck", metavar="DECK|SPEC.toml")
+    p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("--radius2", type=positive_length, metavar="R",
                    help="the crank's counterweight this far from O2 (default R2)")
     p.add_argument("--radius4", type=positive_length, metavar="R",
@@ -294,13 +313,14 @@ def build_parser() -> argparse.ArgumentParser:
                         "spec's [scene] branch")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="also write the balanced design: a spec if FILE ends .toml, else a "
-                        "deck (atomically)")
+                        "deck (atomically); -: on stdout in the input's form (a spec for a "
+                        "spec), the report then on stderr")
 
     p = add("sweep", "a grid of designs from a spec's [sweep]: per design the peak and RMS "
             "torque, flywheel, pin loads, shaking force and moment, transmission angle, kind")
-    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="FILE.csv",
-                   help="write the table here (atomically) instead of stdout")
+                   help="write the table here (atomically); - or none: stdout")
     p.add_argument("--plot", metavar="FILE.png",
                    help="also draw the Pareto plot of the [sweep]'s two pareto figures")
     p.add_argument("--workers", type=worker_count, default=None, metavar="N",
@@ -316,26 +336,26 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("simulate", "the crank driven by the spec's [motor] (forward dynamics): the "
             "time history as CSV with units, a plot of speed and torque against THETA 2 "
             "(needs scipy: pip install -e \".[dynamics]\")")
-    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="FILE.csv",
-                   help="write the time history here (atomically) instead of stdout")
+                   help="write the time history here (atomically); - or none: stdout")
     p.add_argument("--plot", metavar="FILE.png",
                    help="also draw the crank speed and the torques against THETA 2")
 
     p = add("synth", "synthesise linkages from a spec's [synthesis] (crank_rocker, function, "
             "motion or path) and rank them by dynamics in its [scene]: a CSV, best first")
-    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="FILE.csv",
-                   help="write the ranked table here (atomically) instead of stdout")
+                   help="write the ranked table here (atomically); - or none: stdout")
     p.add_argument("--write-best", metavar="DIR",
                    help="also write the [synthesis] best-ranked candidates as DIR/best-K.toml "
                         "specs, and DIR/best-K.dat decks where a deck can hold them")
 
     p = add("tolerance", "a Monte Carlo of a spec's [tolerance] deviations: per design "
             "figure the nominal, mean, std, 5/95 percentiles and first-order sensitivities")
-    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="FILE",
-                   help="write the table here (atomically) instead of stdout")
+                   help="write the table here (atomically); - or none: stdout")
     p.add_argument("--workers", type=worker_count, default=None, metavar="N",
                    help="N > 1: dask's local threads when dask is installed (the same "
                         "numbers); default: this process")
@@ -343,7 +363,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = add("report", "one self-contained HTML page for a deck or spec: its values with "
             "units, kind, peaks, the linkage drawn and animated, the report's figures, "
             "bearings, balancing, the 1966 quirks (needs matplotlib)")
-    p.add_argument("deck", metavar="DECK|SPEC.toml")
+    p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("-o", "--output", required=True, metavar="FILE.html",
                    help="write the page here (atomically; - for stdout)")
     p.add_argument("--at", type=float, default=40.0, metavar="DEG",
@@ -352,14 +372,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the assembly (default: the spec's [scene] branch, else open)")
 
     p = add("help", "help on a topic: deck (the card layout and units), "
-            "conventions, arith, exit")
-    p.add_argument("topic", nargs="?", metavar="TOPIC", help="deck, conventions, arith or exit")
+            "conventions, arith, exit, io (- for stdin, -o - for stdout)")
+    p.add_argument("topic", nargs="?", metavar="TOPIC",
+                   help="deck, conventions, arith, exit or io")
 
     p = add("punch", "punch an 80-column deck from a TOML spec with names and units "
             "(see decks/example.toml)")
-    p.add_argument("spec", metavar="SPEC.toml")
+    p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="DECK",
-                   help="write to DECK (atomically) instead of stdout")
+                   help="write to DECK (atomically); - or none: stdout")
     return parser
 
 
@@ -374,7 +395,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if sys.stderr is None:  # started with 2>&-: messages go nowhere, the work still runs
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (lives as long as the process)
     if sys.stdout is None:  # started with >&-
-        if getattr(args, "output", None) and args.command in ("run", "table", "punch"):
+        if getattr(args, "output", None) not in (None, "-") and args.command in (
+                "run", "table", "punch", "check", "sweep", "simulate", "synth", "tolerance",
+                "report"):
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (nothing is printed there)
         else:
             return _closed_stream()
@@ -414,9 +437,11 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
+    from sielaff.tools.common import take_stdin
     from sielaff.tools.output import changed_note
 
     try:
+        take_stdin(args)  # an input named -: standard input, called <stdin>
         return _command(args.func)(args)
     except (DeckError, CommandError, ValueError) as exc:
         if debug:
@@ -444,6 +469,18 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"sielaff: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_DECK
+    except Exception:
+        # A signal that arrived while a C extension was loading (numpy importing datetime)
+        # comes back as that extension's ImportError: it is still the signal.
+        signum = SIGNAL_STATE["raised"]
+        if debug or signum is None:
+            raise
+        if signum == signal.SIGINT:
+            print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        print(f"sielaff: terminated by {signal.Signals(signum).name}; {changed_note()}",
+              file=sys.stderr)
+        return 128 + signum
 
 
 #: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS

@@ -68,6 +68,14 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TI4": ("in-lb", "inertia torque of link 4, -ZI4 TH4DD"),
     "TP2": ("in-lb", "driving torque for link 3's inertia alone (superposition)"),
     "TPP2": ("in-lb", "driving torque for link 4's inertia alone (superposition)"),
+    "TORQ_FRICTION": ("in-lb", "the part of TORQ pin friction takes (TORQ with it less "
+                               "TORQ without)"),
+    "TORQ_ELEMENTS": ("in-lb", "the part of TORQ the springs and dampers take"),
+    **{f"PLOSS_{pin}": ("in-lb/sec", f"power pin friction loses at {pin}, >= 0")
+       for pin in ("O2", "A", "B", "O4")},
+    "FRICTION_ITERATIONS": ("-", "iterations of the pin-friction fixed point"),
+    "FRICTION_STATUS": ("-", "pin friction: 0 solved, 1 a relative rotation is zero, "
+                             "2 not converged (NaN)"),
 }
 
 
@@ -89,6 +97,12 @@ def _vector(name: str) -> tuple[str, str] | None:
             return "deg", f"direction of the {meaning}, CCW from +x"
         if name in (base + "X", base + "Y"):
             return "lb", f"{name[-1].lower()} component of the {meaning}"
+    for kind in ("SPRING", "DAMPER"):  # SPRING1_L, DAMPER2_F, ...: engine/elements.py
+        head, _, q = name.partition("_")
+        if head.startswith(kind) and head[len(kind):].isdigit() and q in ("L", "LD", "F"):
+            what = {"L": ("in", "length"), "LD": ("in/sec", "rate of change of the length"),
+                    "F": ("lb", "tension (negative: it pushes)")}[q]
+            return what[0], f"{what[1]} of {kind.lower()} {head[len(kind):]}"
     if name[:2] == "FG" and name[-1] in "XY":  # FG2X: D'Alembert inertia force
         return "lb", f"{name[-1].lower()} component of the inertia force -m aG of link {name[2]}"
     if name.startswith(("FP", "F3P")) and name[-1] in "XY":  # superposition partials
@@ -99,7 +113,8 @@ def _vector(name: str) -> tuple[str, str] | None:
 
 #: The report's units and their SI counterparts (in SI the W fields hold masses).
 SI = {"in": "m", "lb": "N", "in-lb": "N m", "in-lb-sec^2": "kg m^2", "in/sec": "m/s",
-      "in/sec^2": "m/s^2", "rad/sec": "rad/s", "rad/sec^2": "rad/s^2", "deg": "deg", "-": "-"}
+      "in/sec^2": "m/s^2", "in-lb/sec": "W", "rad/sec": "rad/s", "rad/sec^2": "rad/s^2",
+      "deg": "deg", "-": "-"}
 
 
 def unit(name: str, units: str = "in-lb-sec") -> str:

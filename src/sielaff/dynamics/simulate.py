@@ -18,9 +18,11 @@ w: B(th2) w^2 (inertia) + C(th2) w (dampers) + D(th2) (gravity, loads, TEX, spri
 ``simulate`` reads J, B, C and D from the engine on a grid of crank angles (five analyze
 calls of one array each, one of them a check that TORQ really is that quadratic), holds
 them as Fourier series (periodic and smooth; the grid doubles until the series' tail is
-below 1e-13 of its largest term) and integrates with those.  A scene where the check
-fails (pin friction: TORQ depends on |pin force|, nonlinear in a), or a series that does
-not converge (near a toggle), is integrated by calling the engine at each state instead:
+below 1e-13 of its largest term) and integrates with those.  Pin friction (TORQ depends
+on |pin force|, nonlinear in a) has tables of its own (:mod:`sielaff.dynamics.friction`:
+the pin forces' parts, the couples' statics and the speed ratios, a and the couples
+solved together per state).  Tables that fail their check against the engine, or a
+series that does not converge (near a toggle), are replaced by the engine at each state:
 J from two calls (a = 0 and a = 1), then, for friction, a short fixed-point iteration on a
 (a += (M - F a - TORQ(a)) / (J + F), secant slope J) to 1e-12 of the torque scale.
 
@@ -42,11 +44,13 @@ f(w0) = w(start + 360 deg) - w0 (scipy.optimize.brentq), integrating in the cran
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
 
+from sielaff.dynamics.friction import FrictionError, FrictionTables
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.scene import Scene
@@ -150,9 +154,10 @@ class _Tables:
             n *= 2
 
     def __call__(self, theta: float) -> np.ndarray:
-        """(J, B, C, D) at ``theta`` [rad]."""
-        e = np.exp(1j * self.k * theta)
-        return (self.coef @ e).real
+        """(J, B, C, D) at ``theta`` [rad] (sums, not BLAS: no thread start-up per step)."""
+        x = self.k * theta
+        return (self.coef.real * np.cos(x)).sum(axis=1) - (self.coef.imag * np.sin(x)).sum(
+            axis=1)
 
 
 def _check_speed(name: str, v: Any) -> float:
@@ -258,41 +263,77 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
 
     motor_speed = float(getattr(motor, "speed_scale", 0.0) or 0.0)
     scale = max(abs(w0), abs(float(mechanism.TH2D)), motor_speed, 1.0)
-    tab = _Tables(mechanism, sc, scale) if tables and not _nonlinear(sc) else None
+    nonlinear = _nonlinear(sc)
+    tab = _Tables(mechanism, sc, scale) if tables and not nonlinear else None
     if tab is not None and not tab.ok:
         tab = None
+    ftab = FrictionTables(mechanism, sc, scale, f_in) if tables and nonlinear else None
+    if ftab is not None and not ftab.ok:
+        ftab = None
     count = [0]
-    nonlinear = _nonlinear(sc)
+
+    def accel_many(theta: Any, w: Any) -> np.ndarray:
+        """TH2DD at crank angles ``theta`` [rad] and speeds ``w`` [rad/sec] (arrays), by
+        the engine: one call for TORQ at a = 0 and a = 1, then, with friction, one call
+        per iteration for every state still short of 1e-12 of its torque scale."""
+        theta, w = np.atleast_1d(theta).astype(float), np.atleast_1d(w).astype(float)
+        mt = np.asarray(motor(w), dtype=float) * np.ones_like(w)
+        if ftab is not None:
+            try:
+                return ftab.accel(theta, w, mt)
+            except FrictionError as exc:
+                raise SimulationError(str(exc)) from None
+        deg = np.degrees(theta)
+        with warnings.catch_warnings():  # a NaN is one line below, never a warning
+            warnings.simplefilter("ignore")
+            q = _torq(mechanism, sc, np.concatenate([deg, deg]), np.concatenate([w, w]),
+                      np.concatenate([np.zeros_like(w), np.ones_like(w)]))
+        bad = ~np.isfinite(q[: len(w)] + q[len(w):])
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise SimulationError(f"the friction iteration does not converge at THETA 2 = "
+                                  f"{deg[k] % 360.0:.6g} deg, TH2D = {w[k]:.6g} rad/sec "
+                                  "(the pin forces grow without bound)")
+        q0, jj = q[: len(w)], q[len(w):] - q[: len(w)]
+        a = (mt - q0) / (jj + f_in)
+        if nonlinear:
+            tol = 1e-12 * np.maximum(np.maximum(np.abs(mt), np.abs(q0)), 1e-300)
+            todo = np.arange(len(w))
+            for _ in range(50):
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    r = mt[todo] - f_in * a[todo] - _torq(mechanism, sc, deg[todo],
+                                                           w[todo], a[todo])
+                if not np.all(np.isfinite(r)):  # the engine's friction has no solution
+                    todo = todo[~np.isfinite(r)]
+                    break
+                done = np.abs(r) <= tol[todo]
+                a[todo] += np.where(done, 0.0, r / (jj[todo] + f_in))
+                todo = todo[~done]
+                if not len(todo):
+                    break
+            if len(todo):
+                k = todo[0]
+                raise SimulationError(f"the friction iteration does not converge at "
+                                      f"THETA 2 = {deg[k] % 360.0:.6g} deg, TH2D = "
+                                      f"{w[k]:.6g} rad/sec")
+        return a
 
     def accel(theta: float, w: float) -> float:
         count[0] += 1
         if count[0] > MAX_EVALUATIONS:
             raise _TooLong
-        mt = float(np.asarray(motor(w)))
         if tab is not None:
+            mt = float(np.asarray(motor(w)))
             jj, b, c, d = tab(theta)
             return (mt - (b * w * w + c * w + d)) / (jj + f_in)
-        deg = math.degrees(theta)
-        q = _torq(mechanism, sc, [deg, deg], w, np.array([0.0, 1.0]))
-        jj = float(q[1] - q[0])
-        a = (mt - float(q[0])) / (jj + f_in)
-        if nonlinear:
-            tol = 1e-12 * max(abs(mt), abs(float(q[0])), 1e-300)
-            for _ in range(50):
-                r = mt - f_in * a - float(_torq(mechanism, sc, deg, w, a))
-                if abs(r) <= tol:
-                    break
-                a += r / (jj + f_in)
-            else:
-                raise SimulationError(f"the friction iteration does not converge at "
-                                      f"THETA 2 = {deg:.6g} deg, TH2D = {w:.6g} rad/sec")
-        return a
+        return float(accel_many(theta, w)[0])  # the friction tables, or the engine
 
     tu = unit("TORQ", mechanism.units)
     atol_ = rtol * scale if atol is None else float(atol)
     result = Simulation()
     result.flywheel, result.motor, result.method, result.rtol = f_in, motor, method, rtol
-    result.mode = "tables" if tab is not None else "engine"
+    result.mode = "tables" if tab is not None or ftab is not None else "engine"
     result.steady = bool(steady)
 
     try:
@@ -309,8 +350,7 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
                               f"equation of motion (method {method}, rtol {rtol:g}): a "
                               "stiff motor wants method='LSODA', 'Radau' or 'BDF'") from None
     result.evaluations = count[0]
-    a = np.array([accel(x, y) for x, y in zip(th, w)]) if tab is None else _accel_table(
-        tab, motor, f_in, th, w)
+    a = accel_many(th, w) if tab is None else _accel_table(tab, motor, f_in, th, w)
     result["t"] = t
     result["ATH2"] = np.degrees(th)
     result["TH2D"] = w

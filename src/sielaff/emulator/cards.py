@@ -70,7 +70,8 @@ from sielaff.mechanism import FIELD_NAMES, Mechanism
 
 __all__ = [
     "PARAMETER_CARDS", "Deck", "DeckError", "Range", "RangeCard",
-    "parse_card", "parse_deck", "read_deck", "read_field", "read_field_decimal",
+    "parse_card", "parse_deck", "read_deck", "read_deck_stream", "read_field",
+    "read_field_decimal",
 ]
 
 COLUMNS = 80
@@ -452,6 +453,15 @@ def parse_deck(text: str | bytes, path: str = "<deck>") -> Deck:
     path = os.fspath(path)
     data = text.encode("utf-8", "surrogatepass") if isinstance(text, str) else bytes(text)
     return _read(io.BytesIO(data), path)
+
+
+def read_deck_stream(stream, path: str) -> Deck:
+    """Read a deck from a binary stream with ``readline(limit)`` (standard input), card by
+    card at flat memory as :func:`read_deck` reads a file; ``path`` names it in errors."""
+    try:
+        return _read(stream, path)
+    except OSError as err:
+        raise DeckError(path, f"cannot read the deck ({err.strerror or err})") from err
 
 
 def read_deck(path: str | os.PathLike[str]) -> Deck:

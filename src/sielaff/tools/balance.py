@@ -72,12 +72,18 @@ def cmd_balance(args) -> int:
     from sielaff.design.balance import balance
     from sielaff.design.report import balance_lines
     from sielaff.mechanism import FIELD_NAMES
-    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        is_spec,
+        load_scene,
+        read_spec,
+        refuse_bad_output,
+        write_stdout,
+    )
     from sielaff.tools.output import atomic_output
     from sielaff.tools.spec import (
         PunchError,
         punch_deck,
-        read_spec,
         spec_deck,
         spec_dict,
         spec_text,
@@ -100,25 +106,33 @@ def cmd_balance(args) -> int:
     if scene.gravity is not None or scene.loads:
         lines.append("  (the spec's weights and loads still reach the frame: counterweights "
                      "cancel the inertia forces only)")
+    to_stdout = args.output == "-"  # the balanced design on stdout, the report on stderr
+    where = "standard output" if to_stdout else args.output
     if args.output:
-        as_spec = args.output.endswith(".toml")
+        # -o -: the design in the input's form (a spec for a spec, a deck for a deck)
+        as_spec = is_spec(path) if to_stdout else args.output.endswith(".toml")
         value = _spec_value if as_spec else _deck_value
         values = {n: deck.exact.get(n, value(getattr(m, n))) for n in FIELD_NAMES}
         values.update({n: value(getattr(balanced, n)) for names in CHANGED.values()
                        for n in names})
-        base = read_spec(path) if path.endswith(".toml") else {}
+        base = read_spec(path) if is_spec(path) else {}
         spec = spec_dict(values, deck.exact_ranges, base)
         try:
             if as_spec:
-                spec_deck(spec, args.output)  # what table and check will read back
+                spec_deck(spec, where)  # what table and check will read back
                 text = spec_text(spec, f"{path} balanced by sielaff balance (Berkof-Lowen)")
             else:
-                text = punch_deck(spec, args.output, True)
+                text = punch_deck(spec, where, True)
         except PunchError as exc:
-            raise CommandError(f"{args.output}: the balanced design cannot be written: "
+            raise CommandError(f"{where}: the balanced design cannot be written: "
                                f"{exc}") from None
         written = m.replace(**{n: float(values[n]) for n in FIELD_NAMES})
-        lines += ["", _written_line(args.output, as_spec, m, balanced, written, scene)]
+        lines += ["", _written_line(where, as_spec, m, balanced, written, scene)]
+        if to_stdout:
+            if not write_stdout(text):
+                return 0  # the reader went away: nothing more to say
+            print("\n".join(lines), file=sys.stderr)
+            return 0
         with atomic_output(args.output) as out:
             out.write(text)
     sys.stdout.write("\n".join(lines) + "\n")

@@ -219,6 +219,9 @@ class CheckReport:
     lines: list[str] = field(default_factory=list)
     status: int = EXIT_OK
     error: str | None = None
+    #: The report has the revolution's peaks, cycle work and bearings (``--format json``
+    #: gives the same facts).
+    revolution: bool = False
 
     def add(self, text: str = "") -> None:
         self.lines.append(text)
@@ -384,7 +387,8 @@ def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = No
     if effects:
         rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): the work "
                 "the scene's "
-                "loads and crank acceleration take (gravity's is zero)")
+                "loads, crank acceleration, friction and dampers take (gravity's and a "
+                "spring's are zero)")
     else:
         rep.add(f"    (integral of |TORQ|: {fmt(abs_work, 'work', system, '.1f')}): "
                 + ("zero, as it must be with TEX = 0" if ok else "NOT zero although TEX = 0"))
@@ -581,6 +585,7 @@ def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
         if overflow is None:
             _revolution_section(deck.mechanism, rep, scene)
             _design_section(deck.mechanism, rep, scene)
+            rep.revolution = True
             rep.add()
     reason = _quirk_section(deck, sheets, rep, sheet_limit)
     rep.add()
@@ -627,30 +632,36 @@ def _program_test_passes(m: Mechanism) -> bool:
 
 def cmd_check(args) -> int:
     """``sielaff check DECK``: the report on stdout, the reason for a non-zero exit on stderr."""
-    import os
     import sys
 
-    from sielaff.emulator.cards import read_deck
-    from sielaff.tools.common import CommandError, read_spec_deck, write_stdout
+    from sielaff.tools.common import (
+        CommandError,
+        input_exists,
+        is_spec,
+        read_input_deck,
+        read_spec_deck,
+        refuse_bad_output,
+        write_stdout,
+    )
 
-    if not os.path.lexists(args.deck):
+    output = getattr(args, "output", None)
+    refuse_bad_output(output, [args.deck])  # before any work
+    if not input_exists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")
-    if args.deck.endswith(".toml"):  # a spec: its deck, and its scene for the engine
+    if is_spec(args.deck):  # a spec: its deck, and its scene for the engine
         deck, scene = read_spec_deck(args.deck)
     else:
-        deck, scene = read_deck(args.deck), Scene()
+        deck, scene = read_input_deck(args.deck), Scene()
     if getattr(args, "branch", None):
         import dataclasses
 
         scene = dataclasses.replace(scene, branch=args.branch)
     rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False))
-    text = rep.text if getattr(args, "format", "text") == "text" else report_json(deck, rep)
-    output = getattr(args, "output", None)
+    text = (rep.text if getattr(args, "format", "text") == "text"
+            else report_json(deck, rep, scene))
     if output not in (None, "-"):
-        from sielaff.tools.common import refuse_overwriting_inputs
         from sielaff.tools.output import atomic_output
 
-        refuse_overwriting_inputs(output, [args.deck])
         with atomic_output(output) as out:
             out.write(text)
     else:
@@ -660,12 +671,16 @@ def cmd_check(args) -> int:
     return rep.status
 
 
-def report_json(deck: Deck, rep: CheckReport) -> str:
-    """The report as JSON: the linkage's kind and what decides it (lengths in the deck's
-    unit, angles in degrees), the status and error, and the report's lines."""
+def report_json(deck: Deck, rep: CheckReport, scene: Scene | None = None) -> str:
+    """The report as JSON, the same facts as the text: the linkage's kind and what decides
+    it, the toggles, arcs and limit positions, the transmission angle, the peak loads and
+    torques with their angles, the cycle work, the flywheel and bearings, the verdict, the
+    status and error, and the report's lines.  A number is ``{"value": x, "unit": "lb"}``
+    (angles in degrees, ``"deg"``), the unit the mechanism's unit system gives it."""
     import json
 
     m = deck.mechanism
+    scene = scene or Scene()
     try:
         with np.errstate(all="ignore"):
             c = linkage_class(m)
@@ -675,13 +690,97 @@ def report_json(deck: Deck, rep: CheckReport) -> str:
     def finite(values) -> list[float]:
         return [float(v) for v in np.ravel(values) if np.isfinite(v)]
 
-    data: dict = {"path": str(deck.path), "units": m.units,
-                  "length_unit": unit_of("length", m.units)}
+    system = getattr(m, "units", "in-lb-sec")
+    length = unit_of("length", system)
+    data: dict = {"path": str(deck.path), "units": system, "length_unit": length,
+                  "lengths": {n: _q(getattr(m, n), length) for n in ("R1", "R2", "R3", "R4")}}
     if c is not None and rep.status != EXIT_UNUSABLE:
         data.update({
             "kind": c.kind, "grashof_sum": float(c.grashof_sum),
             "grashof_margin": float(c.grashof_margin), "turns_fully": bool(c.turns_fully),
             "toggles_deg": finite(c.toggles),
-            "arcs_deg": [[float(a), float(b)] for a, b in (c.arcs or [])]})
-    data.update({"status": rep.status, "error": rep.error, "report": rep.lines})
+            "arcs_deg": [[float(a), float(b)] for a, b in (c.arcs or [])],
+            "grashof": {"sum": _q(c.grashof_sum, length),
+                        "margin": _q(c.grashof_margin, length)},
+            "crank_rocker_failure": crank_rocker_failure(m, deck.exact)})
+        if not c.turns_fully and c.arcs:
+            data["limit_positions"] = _limit_positions(m, finite(c.toggles), scene)
+    if rep.revolution:
+        data.update(_revolution_facts(m, scene))
+    verdict = next((line for line in reversed(rep.lines) if line.startswith("Verdict: ")), "")
+    data.update({"verdict": verdict.removeprefix("Verdict: "), "status": rep.status,
+                 "error": rep.error, "report": rep.lines})
     return json.dumps(data, indent=1) + "\n"
+
+
+def _q(value: float, unit_text: str) -> dict:
+    """A number with its unit for the JSON report (None for a value that is not finite)."""
+    value = float(value)
+    return {"value": value if math.isfinite(value) else None, "unit": unit_text}
+
+
+def _limit_positions(m: Mechanism, toggles: list[float], scene: Scene) -> list[dict]:
+    """THETA 3 and THETA 4 at each toggle, as the kind section prints them."""
+    import warnings
+
+    from sielaff.engine import analyze
+    from sielaff.engine.analysis import AssemblyWarning
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", AssemblyWarning)
+        r = analyze(m, np.array(toggles), ["ATH3", "ATH4"], scene=scene)
+    return [{"THETA 2": _q(t, "deg"), "THETA 3": _q(a, "deg"), "THETA 4": _q(b, "deg")}
+            for t, a, b in zip(toggles, r["ATH3"], r["ATH4"])]
+
+
+def _revolution_facts(m: Mechanism, scene: Scene) -> dict:
+    """The revolution section's facts (the same computations: :func:`_extreme`,
+    :func:`cycle_work`, the flywheel and :func:`sielaff.design.bearings`)."""
+    from sielaff.design import bearings, flywheel
+    from sielaff.engine import analyze
+
+    system = m.units
+    deg = "deg"
+    k = 2.0 * m.R3 * m.R4
+    g_min = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 - m.R2) ** 2) / k)))
+    g_max = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 + m.R2) ** 2) / k)))
+    peaks = {}
+    for name, heading, where in BEARINGS:
+        at, value = _extreme(m, name, scene=scene)
+        direction = float(analyze(m, at, ["D" + name], scene=scene)["D" + name])
+        peaks[name] = {"heading": heading, "pin": where, "peak": _q(value, unit(name, system)),
+                       "theta2": _q(at, deg), "direction": _q(direction, deg)}
+    torque = unit("TORQ", system)
+    at_max, t_max = _extreme(m, "TORQ", scene=scene)
+    at_min, t_min = _extreme(m, "TORQ", -1.0, scene=scene)
+    force = unit("SHAK", system)
+    at_shak, shak = _extreme(m, "SHAK", scene=scene)
+    components = {f"{name}_{end}": _q(_extreme(m, name, sign, scene=scene)[1], force)
+                  for name in ("SHAKX", "SHAKY") for end, sign in (("max", 1.0), ("min", -1.0))}
+    work, abs_work = cycle_work(m, scene=scene)
+    facts: dict = {
+        "transmission_angle": {"min": _q(g_min, deg), "min_at_theta2": _q(0.0, deg),
+                               "max": _q(g_max, deg), "max_at_theta2": _q(180.0, deg)},
+        "peak_loads": peaks,
+        "torque": {"max": _q(t_max, torque), "max_at_theta2": _q(at_max, deg),
+                   "min": _q(t_min, torque), "min_at_theta2": _q(at_min, deg),
+                   "peak_power": _q(max(abs(t_max), abs(t_min)) * abs(m.TH2D),
+                                    unit_of("power", system))},
+        "cycle_work": {"work": _q(work, unit_of("work", system)),
+                       "abs_integral": _q(abs_work, unit_of("work", system)),
+                       "text": work_text(work, abs_work, system)},
+        "shaking_force": {"peak": _q(shak, force), "peak_at_theta2": _q(at_shak, deg),
+                          **components},
+    }
+    if m.TH2D != 0.0 and not callable(scene.th2dd) and not np.any(scene.th2dd):
+        fw = flywheel(m, scene=scene)
+        facts["flywheel"] = {"cf": fw.cf, "energy": _q(fw.energy, unit_of("work", system)),
+                             "inertia": _q(fw.inertia, unit("ZI2", system))}
+    facts["bearings"] = [
+        {"pin": pin.name, "force": pin.force, "peak": _q(pin.peak, force),
+         "at_theta2": _q(pin.at, deg),
+         "members": [{"member": mb.name, "never_loaded_deg": [[float(a), float(b)]
+                                                              for a, b in mb.unloaded],
+                      "reversals": int(mb.reversals)} for mb in pin.members]}
+        for pin in bearings(m, scene=scene).values()]
+    return facts

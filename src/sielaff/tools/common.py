@@ -9,11 +9,12 @@ field.
 
 from __future__ import annotations
 
+import io
 import os
 import signal
 import sys
-from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from sielaff.emulator.cards import PARAMETER_CARDS, Deck, read_deck
 from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's statuses)
@@ -41,7 +42,9 @@ class Terminated(BaseException):
 
 #: ``process``: main runs as the ``sielaff`` process (not called in-process by a test);
 #: ``finished``: its command has ended and said so, so a late signal changes nothing.
-SIGNAL_STATE = {"process": False, "finished": False}
+#: ``raised``: the signal last turned into an exception (a C extension being imported
+#: when it arrives can swallow that exception into an ImportError of its own).
+SIGNAL_STATE: dict = {"process": False, "finished": False, "raised": None}
 
 
 def _raise_terminated(signum, _frame) -> None:
@@ -52,6 +55,7 @@ def _raise_terminated(signum, _frame) -> None:
     if output.deferring():  # outputs are being renamed into place: act when they are
         output.defer(signum)
         return
+    SIGNAL_STATE["raised"] = signum
     if signum == signal.SIGINT:
         raise KeyboardInterrupt
     raise Terminated(signum)
@@ -63,7 +67,7 @@ def install_signal_handlers(process: bool = False) -> None:
     while a set of outputs is being renamed into place (``sielaff.tools.output``), and
     so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
     keep Python's own Ctrl-C)."""
-    SIGNAL_STATE.update(process=process, finished=False)
+    SIGNAL_STATE.update(process=process, finished=False, raised=None)
     for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
             if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
@@ -83,7 +87,171 @@ def finish_signals() -> None:
                 signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
+# -- standard input -----------------------------------------------------------------
+#: The name an input given as ``-`` (standard input) goes by in every message.
+STDIN = "<stdin>"
+
+#: What this run read from standard input: "taken" (an input was ``-``), "kind" ("deck"
+#: or "spec", told by :func:`stdin_kind`), "head" (the bytes read to tell it), "deck"
+#: (the deck once read), "spec" (a spec's bytes once read).
+_STDIN: dict = {}
+
+#: The commands' input arguments that may be ``-``.
+INPUT_NAMES = ("deck", "spec", "listing", "golden")
+
+#: Lines read (each at most a card line's 4,096 bytes) to tell a spec from a deck before
+#: deciding "deck".
+SNIFF_LINES = 1000
+
+
+def take_stdin(args: Any) -> None:
+    """Turn a command's input named ``-`` into :data:`STDIN` (read when the command asks;
+    at most one input may be ``-``).  Called once per run, before the command."""
+    _STDIN.clear()
+    named = [name for name in INPUT_NAMES if getattr(args, name, None) == "-"]
+    if len(named) > 1:
+        raise CommandError(f"sielaff: {' and '.join(named)} are both -: standard input "
+                           "holds one of them; name the other's file")
+    if named:
+        setattr(args, named[0], STDIN)
+        _STDIN["taken"] = True
+
+
+def is_stdin(path: str | None) -> bool:
+    """True if ``path`` is the input this run reads from standard input."""
+    return path == STDIN and bool(_STDIN.get("taken"))
+
+
+def stdin_bytes() -> BinaryIO:
+    """Standard input as a binary stream; one line if it is closed (``0<&-``)."""
+    stream = getattr(sys.stdin, "buffer", None)
+    if stream is None:
+        raise CommandError("sielaff: -: standard input is closed (started with 0<&-?)")
+    return stream
+
+
+def looks_like_spec(line: bytes) -> bool:
+    """The rule for standard input: a TOML spec if its first non-blank line begins with
+    ``[`` (a table) or ``#`` (a comment) or holds ``=`` (a key); else a deck, whose
+    cards of FORMAT(4F8.4) hold none of the three."""
+    text = line.decode("latin-1").lstrip()
+    return text.startswith(("[", "#")) or "=" in text
+
+
+def stdin_kind() -> str:
+    """"spec" or "deck": what standard input holds, by :func:`looks_like_spec` on its first
+    non-blank line (read once, at most :data:`SNIFF_LINES` lines of a card's length:
+    endless blank lines or ``/dev/zero`` are told at once and left to the deck's reader,
+    which refuses them naming the card)."""
+    if "kind" not in _STDIN:
+        from sielaff.emulator.cards import LINE_LIMIT
+
+        stream, head, kind = stdin_bytes(), bytearray(), "deck"
+        for _ in range(SNIFF_LINES):
+            line = stream.readline(LINE_LIMIT)
+            head += line
+            if not line:
+                break
+            if line.strip():
+                kind = "spec" if looks_like_spec(line) else "deck"
+                break
+        _STDIN.update(kind=kind, head=bytes(head))
+    return _STDIN["kind"]
+
+
+class _Replay:
+    """Standard input with the lines :func:`stdin_kind` read put back in front."""
+
+    def __init__(self, head: bytes, rest: BinaryIO) -> None:
+        self._head, self._rest = io.BytesIO(head), rest
+
+    def readline(self, limit: int = -1) -> bytes:
+        # the head holds whole lines as read with the deck reader's limit: no line spans it
+        return self._head.readline(limit) or self._rest.readline(limit)
+
+
+def is_spec(path: str) -> bool:
+    """True if ``path`` names a TOML spec: ``*.toml``, or standard input holding one."""
+    return stdin_kind() == "spec" if is_stdin(path) else path.endswith(".toml")
+
+
+def spec_path(path: str) -> bool:
+    """True if a command that reads only specs takes ``path``: ``*.toml`` or standard
+    input (read as TOML whatever its first line, so a broken spec is told where)."""
+    return is_stdin(path) or path.endswith(".toml")
+
+
+def input_exists(path: str) -> bool:
+    """True if the input ``path`` is there to read (standard input always is)."""
+    return is_stdin(path) or os.path.lexists(path)
+
+
+def read_spec(path: str) -> dict:
+    """The parsed spec at ``path``, or on standard input (at most the spec's byte limit
+    read: an endless stream is refused at once); PunchError naming it if not a spec."""
+    from sielaff.tools import spec as specs
+
+    if not is_stdin(path):
+        return specs.read_spec(path)
+    if "spec" not in _STDIN:
+        stdin_kind()
+        head = _STDIN["head"]
+        limit = specs.MAX_SPEC_BYTES + 1 - len(head)
+        try:
+            rest = stdin_bytes().read(limit) if limit > 0 else b""
+        except OSError as err:
+            raise specs.PunchError(f"{STDIN}: cannot read the spec ({err.strerror or err})") \
+                from None
+        _STDIN["spec"] = head + rest
+    return specs.parse_spec(_STDIN["spec"], STDIN)
+
+
+def spec_source(path: str) -> str:
+    """The text of the spec at ``path`` as written (standard input's, once read by
+    :func:`read_spec`), for a page that shows it."""
+    if is_stdin(path):
+        read_spec(path)
+        return _STDIN["spec"].decode("utf-8", errors="replace")
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def read_input_deck(path: str) -> Deck:
+    """The deck at ``path``, or on standard input (read card by card as a file is, once);
+    its warnings are not printed."""
+    if not is_stdin(path):
+        return read_deck(path)
+    if "deck" not in _STDIN:
+        if stdin_kind() == "spec":
+            raise CommandError(f"{STDIN}: a TOML spec (its first line is a table, a comment "
+                               "or a key), not a deck: punch it first (sielaff punch - | "
+                               "sielaff run -)")
+        from sielaff.emulator.cards import read_deck_stream
+
+        _STDIN["deck"] = read_deck_stream(_Replay(_STDIN["head"], stdin_bytes()), STDIN)
+    return _STDIN["deck"]
+
+
+def stdin_text() -> io.TextIOWrapper:
+    """A text stream over standard input for a listing (``diff -``), ASCII as a listing
+    file is opened; the caller detaches it (standard input stays open)."""
+    return io.TextIOWrapper(stdin_bytes(), encoding="ascii", errors="replace")
+
+
 # -- output -------------------------------------------------------------------------
+def stdout_output(output: str | None) -> bool:
+    """True if ``-o`` asks for standard output (``-o -``)."""
+    return output == "-"
+
+
+def refuse_stdout(output: str | None, what: str) -> None:
+    """Refuse ``-o -`` for a command whose output is ``what`` (several files), one line,
+    the usage status."""
+    if output == "-":
+        raise CommandError(f"sielaff: -o -: {what}, which standard output cannot hold: "
+                           "name a folder")
+
+
 def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None:
     """Refuse, before any work, an ``-o`` that is (or links to) one of the inputs."""
     if output in (None, "-", ""):
@@ -91,6 +259,8 @@ def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None
             raise CommandError("sielaff: -o '': an empty file name")
         return
     for path in inputs:
+        if is_stdin(path):  # standard input is no file -o could overwrite
+            continue
         try:
             same = os.path.samefile(output, path)
         except OSError:
@@ -132,10 +302,11 @@ def silence_stdout() -> None:
 
 # -- decks ---------------------------------------------------------------------------
 def load_deck(path: str) -> Deck:
-    """Read a deck; its warnings go to stderr, one line each."""
-    if not os.path.lexists(path):
+    """Read a deck (a file, or standard input as :data:`STDIN`); its warnings go to
+    stderr, one line each."""
+    if not input_exists(path):
         raise CommandError(f"{path}: no such deck")
-    deck = read_deck(path)
+    deck = read_input_deck(path)
     for warning in deck.warnings:
         print(f"sielaff: warning: {warning}", file=sys.stderr)
     return deck
@@ -230,19 +401,33 @@ def no_scene() -> Scene:
 
 def read_spec_deck(path: str) -> tuple[Deck, Scene]:
     """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
+    deck, scene, _ = read_spec_with(path)
+    assert deck is not None
+    return deck, scene
+
+
+def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
+                   deck: bool = True) -> tuple[Deck | None, Scene, Any]:
+    """A TOML spec's deck (in its unit system; None with ``deck=False``, for a spec whose
+    linkages a command makes, as synth's), its :class:`~sielaff.Scene`, and
+    ``read(spec, path)``: the command's own table (``[tolerance]``, ``[synthesis]``,
+    ...).  Any fault is one CommandError naming the file and the key."""
     import dataclasses
 
-    from sielaff.tools.spec import PunchError, read_spec, scene_of, spec_deck
+    from sielaff.tools.spec import PunchError, scene_of, spec_deck
 
-    if not os.path.lexists(path):
+    if not input_exists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
         units, scene = scene_of(spec, path)
-        deck = spec_deck(spec, path)
+        own = None if read is None else read(spec, path)
+        made = spec_deck(spec, path) if deck else None
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
-    return dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units)), scene
+    if made is not None:
+        made = dataclasses.replace(made, mechanism=made.mechanism.replace(units=units))
+    return made, scene, own
 
 
 def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
@@ -257,7 +442,7 @@ def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str |
     it assembles, and stderr says which (:func:`kind_note`)."""
     import dataclasses
 
-    if path.endswith(".toml"):
+    if is_spec(path):
         deck, scene = read_spec_deck(path)
     else:
         deck, scene = load_deck(path), no_scene()
@@ -379,6 +564,12 @@ def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
     if callable(scene.tex) or scene.tex:
         effects.append("TEX a function of THETA 4" if callable(scene.tex) else
                        f"TEX = {scene.tex:g} {unit('TEX', units)}")
+    if scene.has_friction:
+        effects.append("pin friction")
+    for kind in ("spring", "damper"):
+        n = sum(type(e).__name__.lower() == kind for e in scene.elements)
+        if n:
+            effects.append(f"{n} {kind}{'s' if n > 1 else ''}")
     if scene.branch != "open":
         effects.append(f"the {scene.branch} branch")
     return ", ".join(effects)

@@ -87,12 +87,40 @@ ARITH = """\
                  another reconstruction of the lost 1410 library (SIN, COS, ATAN,
                  SQRT), e.g. ibm1410:8,taylor; docs/accuracy.md lists them."""
 
+STREAMS = """\
+standard input and output (every command)
+
+  -  as the input reads it from standard input; messages call it <stdin>, with
+     the card and columns as for a file:
+       sielaff punch decks/example.toml | sielaff check -
+       sielaff balance decks/si.toml -o - | sielaff table -
+     run, check, table, plot, balance, report read a deck or a TOML spec; stdin
+     holds a spec if its first non-blank line begins with [ or # or holds =
+     (a TOML table, comment or key), else a deck (4F8.4 cards have none of them).
+     sweep, simulate, synth, tolerance and punch read stdin as a spec; diff reads
+     one of its two listings there (diff - golden/figure10.asa).  Stdin is read
+     as a file is: card by card up to the deck's limit, at most 1 MiB of spec.
+  -o -  writes standard output in every command that writes one file: run,
+     table, check, punch, balance, sweep, simulate, synth, tolerance, report.
+     The data go to stdout, what is said about them to stderr (balance -o -:
+     the balanced deck, or spec for a spec, on stdout and the report on stderr;
+     sweep -o -: the CSV on stdout, the status on stderr).  plot and bench
+     write several files and refuse -o - (exit 2); so do --plot - and
+     --write-best -.
+  check --format json (with -o FILE or -o -): the report's facts, each number
+     as {"value": x, "unit": "lb"}.
+  A file named with -o is written whole or not at all; a reader that closes
+  the pipe early (| head) ends the run quietly (exit 0; check and diff keep
+  their status)."""
+
 TOPICS = {
     "deck": ("the card deck: layout, fields, units, the example", DECK),
     "conventions": ("frame, angles, signs, which body each force acts on, units",
                     CONVENTIONS),
     "arith": ("the number models of --arith, and the K of ibm1410[:K]", ARITH),
     "exit": ("exit statuses, the same for every command", EXIT_STATUS),
+    "io": ("- for standard input, -o - for standard output, check --format json",
+           STREAMS),
 }
 
 

@@ -11,13 +11,13 @@ from __future__ import annotations
 
 def cmd_punch(args) -> int:
     """``sielaff punch SPEC.toml [-o DECK]``."""
-    from sielaff.tools.common import CommandError, refuse_overwriting_inputs
+    from sielaff.tools.common import CommandError, read_spec, refuse_bad_output
     from sielaff.tools.output import atomic_output
-    from sielaff.tools.spec import PunchError, punch_file
+    from sielaff.tools.spec import PunchError, punch_deck
 
-    refuse_overwriting_inputs(args.output, [args.spec])
+    refuse_bad_output(args.output, [args.spec])
     try:
-        text = punch_file(args.spec)
+        text = punch_deck(read_spec(args.spec), args.spec)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     with atomic_output(args.output) as out:

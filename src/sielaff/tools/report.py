@@ -16,10 +16,20 @@ it reads the same offline in any browser and prints to PDF from it.  It holds:
 * the balancing answer (Berkof-Lowen counterweights and what they cost);
 * for a spec with a ``[sweep]``: the Pareto front of its two figures as a table, and the
   Pareto picture;
+* for a spec with a ``[tolerance]``: the study ``sielaff tolerance`` prints (each figure's
+  nominal, spread and first-order estimate, and the sensitivities);
 * a footer with the version and the command that made the page.
 
-This command composes the others' pages (check, plot, balance): it is the one command
-that imports other commands (docs/architecture.md), and nothing imports it.  The page is
+A spec with a ``[synthesis]`` describes no one linkage: its page is the ranking
+``sielaff synth`` computes (:func:`sielaff.tools.synth.synthesize`), its first
+:data:`RANK_ROWS` rows as a table with the units in the headers, the best
+:data:`DRAWN` candidates drawn by ``plot --linkage``'s drawing, every candidate in the
+two Pareto figures with the front, and the spec as written.
+
+This command composes the others' pages (check, plot, balance, sweep, synth,
+tolerance): it is the one command that imports other commands (docs/architecture.md),
+and nothing imports it; it reads a synthesis or tolerance spec through those commands'
+own readers.  The page is
 written whole or not at all (``tools/output.py``); bad input is one line, as for every
 command.
 """
@@ -53,6 +63,8 @@ th:first-child, td:first-child { text-align: left; }
 figure { margin: 1em 0; page-break-inside: avoid; }
 figure img { max-width: 100%; border: 1px solid #eee; }
 figcaption { color: #444; font-size: 0.9em; }
+.wide { overflow-x: auto; }
+table.small { font-size: 0.8em; }
 footer { margin-top: 3em; color: #555; font-size: 0.85em; border-top: 1px solid #ccc; }
 @media print { body { margin: 0; max-width: none; } h2 { page-break-after: avoid; } }
 """
@@ -129,6 +141,9 @@ def _peaks_table(rows: list[tuple[str, float, str, float]]) -> str:
     return "\n".join(out)
 
 
+#: Frames of the page's animation: 15 degrees apart for a crank that turns fully (a page
+#: is read, not played; ``plot --animate`` draws 36).
+FRAMES = 24
 #: A sweep larger than this is summarised by ``sielaff sweep``, not run for a page.
 SWEEP_LIMIT = 20_000
 #: Rows of the Pareto front shown.
@@ -139,10 +154,11 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
     beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
     from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
-    from sielaff.tools.spec import read_spec, sweep_of
+    from sielaff.tools.common import is_spec, read_spec
+    from sielaff.tools.spec import sweep_of
     from sielaff.tools.sweep import _pareto, _plot
 
-    if not path.endswith(".toml"):
+    if not is_spec(path):
         return []
     spec = read_spec(path)
     if "sweep" not in spec:
@@ -177,8 +193,222 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
                                  f"The sweep's designs and the Pareto front of {px} and {py}")]
 
 
-def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str:
-    """The whole page for ``deck`` in ``scene`` (see the module doc)."""
+def tolerance_section(deck: Deck, scene: Scene, task: dict) -> list[str]:
+    """For a spec with a ``[tolerance]``: the study it asks for, as ``sielaff tolerance``
+    prints it (each figure's nominal, sampled spread and first-order estimate, and the
+    sensitivities, every number with its unit)."""
+    from sielaff.tools.tolerance import run_tolerance, table_lines
+
+    t = run_tolerance(deck, scene, task)
+    return ["<h2>Tolerances</h2>",
+            f"<pre>{html.escape(chr(10).join(table_lines(t, deck.path)))}</pre>"]
+
+
+#: Rows of a synthesis's ranking shown on the page (``sielaff synth`` writes them all).
+RANK_ROWS = 20
+#: Candidates drawn, best first.
+DRAWN = 8
+
+
+def _ranking_columns(r: Any) -> list[str]:
+    """The figures the ranking table shows: the ranking's, the Pareto front's and the least
+    transmission angle, each once (the page's width; the CSV of ``synth`` has all)."""
+    shown: list[str] = []
+    for f in [*r.by, *r.pareto_by, "GAMMA_MIN"]:
+        if f not in shown:
+            shown.append(f)
+    return shown
+
+
+def _ranking_table(done: Any) -> str:
+    """The first :data:`RANK_ROWS` candidates, best first: rank, where each came from
+    (its index as solved and, with [synthesis.vary], its problem), its branch, its four
+    lengths and the figures, each header with its unit."""
+    from sielaff.design.sweep import column_units
+
+    r = done.ranking
+    figs = _ranking_columns(r)
+    lengths = ["R1", "R2", "R3", "R4"]
+    units = column_units(lengths + figs, r.units)
+    front = {int(i) for i in r.pareto}
+    vary = bool(done.task["vary"])
+    head = (["rank", "cand."] + (["problem"] if vary else []) + ["branch"]
+            + [f"{n} [{units[n]}]" for n in lengths + figs] + ["Pareto"])
+    out = ['<div class="wide"><table class="small"><tr>'
+           + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
+    for k, i in enumerate(r.order[:RANK_ROWS], 1):
+        m = r.mechanisms[i]
+        cells = ([str(k), str(int(i))] + ([str(done.origin[i])] if vary else [])
+                 + [r.branches[i]] + [f"{getattr(m, n):.5g}" for n in lengths]
+                 + [f"{r.figures[f][i]:.5g}" for f in figs]
+                 + ["yes" if int(i) in front else ""])
+        out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in cells) + "</tr>")
+    out.append("</table></div>")
+    return "\n".join(out)
+
+
+def _kinds(done: Any) -> str:
+    """How many candidates are of each kind of four-bar, in words."""
+    from sielaff.engine.classify import KINDS
+
+    k = np.asarray(done.ranking.figures["KIND"], dtype=float)
+    counts = [(KINDS[int(v)], int(np.sum(k == v))) for v in np.unique(k[np.isfinite(k)])]
+    if len(counts) == 1 and counts[0][1] > 1:
+        return f"all {counts[0][0]}s"
+    return ", ".join(_count(n, kind) for kind, n in counts)
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
+def _candidates_figure(done: Any, at: float) -> bytes:
+    """The best :data:`DRAWN` candidates, each drawn at THETA 2 = ``at`` on its own branch
+    by the linkage drawing of ``sielaff plot --linkage`` (its paths, links, joints and
+    toggles), titled with its rank and first ranking figure."""
+    from sielaff.design.figures import FIGURES
+    from sielaff.quantities import unit
+    from sielaff.tools.plot.linkage import _linkage_axes, linkage_data
+    from sielaff.tools.plot.render import _pyplot
+
+    plt = _pyplot()
+    r = done.ranking
+    show = list(r.order[:DRAWN])
+    cols = min(2, len(show))
+    rows = -(-len(show) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5.6 * cols, 2.6 * rows + 0.5), dpi=80,
+                             layout="constrained", squeeze=False)
+    first = r.by[0]
+    u = unit(FIGURES[first][0], r.units)
+    import warnings
+
+    for k, ax in enumerate(axes.flat):
+        if k >= len(show):
+            ax.set_axis_off()
+            continue
+        i = show[k]
+        deck = Deck(r.mechanisms[i], [], [], f"candidate {int(i)}")
+        with warnings.catch_warnings():  # a candidate that cannot assemble at ``at``
+            warnings.simplefilter("ignore")  # is drawn without its links, as plot does
+            d = linkage_data(deck, (at,), (), r.branches[i])
+        _linkage_axes(ax, d, 0)
+        ax.set_aspect("equal", adjustable="datalim")  # the panel filled, to scale
+        ax.set_title(f"#{k + 1}: candidate {int(i)} ({r.branches[i]} branch), {first} "
+                     f"{r.figures[first][i]:.4g} {u}", fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.xaxis.label.set_size(8)
+        ax.yaxis.label.set_size(8)
+        for t in ax.texts:
+            t.set_fontsize(7)
+    fig.suptitle(f"The best {len(show)} of {len(r)} candidates at THETA 2 = {at:g} deg, "
+                 f"ranked by {', '.join(r.by)} (dashed: the path of G3)", fontsize=10)
+    return _png(fig)
+
+
+def _pareto_figure(done: Any) -> bytes:
+    """Every candidate in the two Pareto figures, the front joined, the first three by
+    rank numbered."""
+    from sielaff.design.figures import FIGURES
+    from sielaff.quantities import unit
+    from sielaff.synthesis.rank import MAXIMISED
+    from sielaff.tools.plot.render import _pyplot
+
+    plt = _pyplot()
+    r = done.ranking
+    px, py = r.pareto_by
+    x, y = np.asarray(r.figures[px]), np.asarray(r.figures[py])
+    fig, ax = plt.subplots(figsize=(7, 4.6), dpi=90, layout="constrained")
+    ok = np.isfinite(x) & np.isfinite(y)
+    ax.scatter(x[ok], y[ok], s=14, color="0.6", label=f"candidates ({int(ok.sum())} of "
+               f"{len(x)} turn fully)")
+    p = np.asarray(r.pareto, dtype=int)
+    ax.plot(x[p], y[p], "o-", color="tab:red", ms=5, label=f"Pareto front ({len(p)})")
+    for k, i in enumerate(r.order[:3], 1):
+        if ok[i]:
+            ax.annotate(f"#{k}", (x[i], y[i]), xytext=(5, 5), textcoords="offset points",
+                        fontsize=9)
+
+    def label(f: str) -> str:
+        how = "maximised" if f in MAXIMISED else "minimised"
+        return f"{f} [{unit(FIGURES[f][0], r.units)}], {how}"
+
+    ax.set_xlabel(label(px))
+    ax.set_ylabel(label(py))
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=9)
+    ax.set_title(f"The candidates in {px} and {py}; #k: rank by {', '.join(r.by)}",
+                 fontsize=10)
+    return _png(fig)
+
+
+def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40.0) -> str:
+    """The page for the ``[synthesis]`` spec at ``path`` (``text``: as written), solved
+    and ranked (``done``: :func:`sielaff.tools.synth.synthesize`): the ranking as a table
+    and its pictures (the best candidates drawn, the Pareto front), and the spec."""
+    from sielaff.tools.common import describe_scene
+
+    r, task = done.ranking, done.task
+    effects = describe_scene(done.scene, done.units) or "the 1966 scene (no gravity, no " \
+        "loads, constant crank speed)"
+    turning = int(np.isfinite(r.figures[r.by[0]]).sum())
+    parts = _head(os.path.basename(path)) + [
+        f'<p class="sub">A synthesis ({html.escape(task["problem"])}) in '
+        f"{html.escape(done.units)} units; scene: {html.escape(effects)}.</p>",
+        "<h2>The ranking</h2>",
+        f"<p>{_count(len(r), 'candidate')} from {_count(len(task['problems']), 'problem')} "
+        f"({len(done.refused)} without a solution): {_kinds(done)}, {turning} turning "
+        f"fully; ranked by {html.escape(', '.join(r.by))}"
+        + (" (the first deciding, ties to the next)" if len(r.by) > 1 else "")
+        + f", each at TH2D = {task['speed']:g} rad/sec over {task['angles']} crank angles. "
+        + (f"The first {RANK_ROWS}; " if len(r) > RANK_ROWS else "")
+        + "<code>sielaff synth</code> writes every one with all its fields"
+        + ("; <em>problem</em> numbers the combinations of [synthesis.vary]"
+           if task["vary"] else "") + ".</p>",
+        _ranking_table(done),
+    ]
+    for line in done.refused[:5]:
+        parts.append(f"<p>Without a solution: {html.escape(line)}</p>")
+    parts += [
+        "<h2>The best candidates</h2>",
+        _figure(_candidates_figure(done, at), "image/png",
+                f"The best candidates at THETA 2 = {at:g} deg"),
+        _figure(_pareto_figure(done), "image/png",
+                f"The Pareto front of {r.pareto_by[0]} and {r.pareto_by[1]}"),
+        "<p>A whole page for a candidate: <code>sielaff synth SPEC --write-best DIR</code>, "
+        "then <code>sielaff report DIR/best-1.toml</code>.</p>",
+        "<h2>The spec</h2>",
+        f"<pre>{html.escape(text)}</pre>",
+    ]
+    return _page(parts, command)
+
+
+def _head(name: str) -> list[str]:
+    """The page's head and its title: ``name`` is the input file's."""
+    return [
+        "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+        # nothing may load from anywhere: images are data: URIs, the style is inline
+        '<meta http-equiv="Content-Security-Policy" content="default-src \'none\'; '
+        'img-src data:; style-src \'unsafe-inline\'">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        f"<title>sielaff report: {html.escape(name)}</title>",
+        f"<style>{STYLE}</style>", "</head>", "<body>",
+        f"<h1>sielaff report: {html.escape(name)}</h1>",
+    ]
+
+
+def _page(parts: list[str], command: str) -> str:
+    """``parts`` (from :func:`_head` on) with the footer: the version and the command."""
+    from sielaff.version import __version__
+
+    return "\n".join(parts + [
+        f"<footer>Made by sielaff {html.escape(__version__)} with "
+        f"<code>{html.escape(command)}</code>.</footer>", "</body>", "</html>", ""])
+
+
+def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
+                tolerances: dict | None = None) -> str:
+    """The whole page for ``deck`` in ``scene`` (see the module doc); ``tolerances``: a
+    spec's checked ``[tolerance]`` table, whose study gets a section."""
     from sielaff.design.balance import balance
     from sielaff.design.report import balance_lines
     from sielaff.engine import linkage_class
@@ -188,22 +418,13 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
     from sielaff.tools.plot.bearings import bearings_figure
     from sielaff.tools.plot.linkage import _animation, _draw_linkage, linkage_data
     from sielaff.tools.plot.render import _pyplot
-    from sielaff.version import __version__
 
     m = deck.mechanism
     name = os.path.basename(deck.path)
     c = linkage_class(m)
     effects = describe_scene(scene, m.units) or "the 1966 scene (constant crank speed, " \
         "no gravity, TEX = 0 the only load, the open branch)"
-    parts = [
-        "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
-        # nothing may load from anywhere: images are data: URIs, the style is inline
-        '<meta http-equiv="Content-Security-Policy" content="default-src \'none\'; '
-        'img-src data:; style-src \'unsafe-inline\'">',
-        '<meta name="viewport" content="width=device-width, initial-scale=1">',
-        f"<title>sielaff report: {html.escape(name)}</title>",
-        f"<style>{STYLE}</style>", "</head>", "<body>",
-        f"<h1>sielaff report: {html.escape(name)}</h1>",
+    parts = _head(name) + [
         f'<p class="sub">A {html.escape(c.kind)} in {html.escape(m.units)} units; '
         f"scene: {html.escape(effects)}.</p>",
     ]
@@ -213,9 +434,8 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
     fig = _draw_linkage(plt, linkage_data(deck, (at,), (), scene.branch))
     parts.append(_figure(_png(fig), "image/png",
                          f"The linkage at THETA 2 = {at:g} deg ({scene.branch} branch)"))
-    # 24 frames (15 degrees apart): each costs a full redraw, and a page is read, not played
-    parts.append(_figure(_animation(plt, deck, (), scene.branch, frames=24), "image/gif",
-                         "One cycle of the linkage (the angles it reaches, 24 frames)"))
+    parts.append(_figure(_animation(plt, deck, (), scene.branch, frames=FRAMES), "image/gif",
+                         f"One cycle of the linkage (the angles it reaches, {FRAMES} frames)"))
     # peaks
     rows = peak_rows(deck, scene)
     if rows:
@@ -245,15 +465,35 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0) -> str
         parts.append("<h2>Balancing</h2>")
         parts.append(f"<pre>{html.escape(chr(10).join(lines))}</pre>")
     parts += sweep_section(deck.path, deck, scene)
-    parts.append(f"<footer>Made by sielaff {html.escape(__version__)} with "
-                 f"<code>{html.escape(command)}</code>.</footer>")
-    parts += ["</body>", "</html>", ""]
-    return "\n".join(parts)
+    if tolerances is not None:
+        parts += tolerance_section(deck, scene, tolerances)
+    return _page(parts, command)
+
+
+def _spec_tables(path: str) -> set[str]:
+    """The top-level tables of a TOML spec (none for a deck, or a spec that cannot be
+    read: its reader says why, in one line)."""
+    from sielaff.tools.common import is_spec, is_stdin, read_spec
+    from sielaff.tools.spec import PunchError
+
+    if not is_spec(path) or not (is_stdin(path) or os.path.isfile(path)):
+        return set()
+    try:
+        return set(read_spec(path))
+    except PunchError:
+        return set()
 
 
 def cmd_report(args: Any) -> int:
     """``sielaff report DECK|SPEC -o FILE.html`` (``-o -``: stdout)."""
-    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        load_scene,
+        mechanism_problem,
+        refuse_bad_output,
+        spec_source,
+    )
+    from sielaff.tools.errors import EXIT_DECK
     from sielaff.tools.output import atomic_output
 
     try:
@@ -263,15 +503,36 @@ def cmd_report(args: Any) -> int:
             from None
     if args.output != "-":
         refuse_bad_output(args.output, [args.deck])
-    deck, scene = load_scene(args.deck, any_linkage=True)
-    if args.branch:
-        scene = scene.replace(branch=args.branch)
     import shlex
 
     command = "sielaff " + shlex.join(getattr(args, "argv", ["report", args.deck, "-o",
                                                               args.output]))
-    with np.errstate(all="ignore"):
-        page = report_html(deck, scene, command, at=args.at)
+    tables = _spec_tables(args.deck)
+    if "synthesis" in tables:
+        from sielaff.tools.synth import synthesize
+
+        if args.branch:
+            raise CommandError(f"sielaff: --branch {args.branch}: {args.deck} is a "
+                               "synthesis, whose candidates each have their own branch")
+        done = synthesize(args.deck)
+        text = spec_source(args.deck)
+        with np.errstate(all="ignore"):
+            page = synthesis_html(done, args.deck, text, command, at=args.at)
+    else:
+        task = None
+        if "tolerance" in tables:
+            from sielaff.tools.tolerance import tolerance_spec
+
+            deck, scene, task = tolerance_spec(args.deck)
+            problem = mechanism_problem(deck)
+            if problem is not None and problem.status == EXIT_DECK:
+                raise problem
+        else:
+            deck, scene = load_scene(args.deck, any_linkage=True)
+        if args.branch:
+            scene = scene.replace(branch=args.branch)
+        with np.errstate(all="ignore"):
+            page = report_html(deck, scene, command, at=args.at, tolerances=task)
     if args.output == "-":
         sys.stdout.write(page)
         return 0

@@ -157,6 +157,7 @@ def cmd_diff(args: argparse.Namespace) -> int:
         iter_sheets,
         listing_lines,
     )
+    from sielaff.tools.common import is_stdin, stdin_text
 
     class Named:
         """A listing file's sheets, read as they are needed; errors name the file."""
@@ -164,7 +165,11 @@ def cmd_diff(args: argparse.Namespace) -> int:
         def __init__(self, path: str, stack: contextlib.ExitStack) -> None:
             self.path, self.count = path, 0
             try:
-                f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
+                if is_stdin(path):  # diff - FILE: one of the two on standard input
+                    f = stdin_text()
+                    stack.callback(f.detach)  # standard input stays open
+                else:
+                    f = stack.enter_context(open(path, encoding="ascii", errors="replace"))
             except OSError as exc:
                 raise CommandError(f"{path}: cannot read the listing ({exc.strerror})") from exc
             self.sheets = iter_sheets(asa_records(listing_lines(f)))

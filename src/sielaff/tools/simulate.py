@@ -2,7 +2,7 @@
 motor (:func:`sielaff.dynamics.simulate`).
 
 The spec's mechanism and [scene] are the linkage and what acts on it; its ``[motor]``
-(:func:`motor_of`, read here: spec.py only lets the table through) is the motor, the
+(:func:`motor_of`, read here: spec_fields.py only lets the table through) is the motor, the
 flywheel, how many revolutions, or
 ``steady = true`` for one revolution of the periodic steady state.  The time history is
 CSV, the header naming each column with its unit (``t[s]``, ``ATH2[deg]`` unwrapped,
@@ -40,7 +40,7 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
     A missing, unknown or bad key is one line naming it.
     """
     from sielaff.dynamics.motor import Motor
-    from sielaff.tools.spec import PunchError, _float, _table, _unknown
+    from sielaff.tools.spec_fields import PunchError, _float, _table, _unknown
 
     where = f"{path}: [motor]"
     if "motor" not in spec:
@@ -101,13 +101,23 @@ def _plot(path: str, r, units: str) -> None:
 
 
 def cmd_simulate(args) -> int:
-    from sielaff.tools.common import CommandError, load_scene, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        load_scene,
+        read_spec,
+        refuse_bad_output,
+        refuse_stdout,
+        spec_path,
+    )
     from sielaff.tools.output import atomic_files
-    from sielaff.tools.spec import PunchError, read_spec
+    from sielaff.tools.spec import PunchError
 
     path = args.spec
+    if args.output == "-":
+        args.output = None  # -o -: the time history on stdout, the status on stderr
     for target in (args.output, args.plot):
         refuse_bad_output(target, [path])
+    refuse_stdout(args.plot, "--plot writes a PNG file")
     try:
         import scipy.integrate  # noqa: F401
         import scipy.optimize  # noqa: F401
@@ -120,7 +130,7 @@ def cmd_simulate(args) -> int:
         except ImportError:
             raise CommandError('sielaff: --plot needs matplotlib: pip install -e ".[plot]"') \
                 from None
-    if not path.endswith(".toml"):
+    if not spec_path(path):
         raise CommandError(f"{path}: simulate reads a TOML spec with a [motor] table")
     deck, scene = load_scene(path)
     try:

@@ -129,13 +129,23 @@ def cmd_sweep(args) -> int:
     import numpy as np
 
     from sielaff.design.sweep import Grid, columns, iter_blocks
-    from sielaff.tools.common import CommandError, read_spec_deck, refuse_bad_output
+    from sielaff.tools.common import (
+        CommandError,
+        read_spec,
+        read_spec_deck,
+        refuse_bad_output,
+        refuse_stdout,
+        spec_path,
+    )
     from sielaff.tools.output import atomic_files, check_targets
-    from sielaff.tools.spec import PunchError, read_spec, sweep_of
+    from sielaff.tools.spec import PunchError, sweep_of
 
     path = args.spec
+    if args.output == "-":
+        args.output = None  # -o -: the table on stdout, the status on stderr
     for target in (args.output, args.plot):
         refuse_bad_output(target, [path])
+    refuse_stdout(args.plot, "--plot writes a PNG file")
     check_targets([p for p in (args.output, args.plot) if p])  # before any work
     if args.plot:
         try:
@@ -143,7 +153,7 @@ def cmd_sweep(args) -> int:
         except ImportError:
             raise CommandError("sielaff: --plot needs matplotlib: pip install -e "
                                "\".[plot]\"") from None
-    if not path.endswith(".toml"):
+    if not spec_path(path):
         raise CommandError(f"{path}: sweep reads a TOML spec with a [sweep] table")
     deck, scene = read_spec_deck(path)
     if getattr(args, "branch", None):

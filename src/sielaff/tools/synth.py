@@ -44,6 +44,7 @@ import itertools
 import math
 import os
 import sys
+from dataclasses import dataclass
 from decimal import Decimal
 from typing import Any
 
@@ -184,31 +185,32 @@ def _cell(v: float) -> str:
     return repr(float(v))
 
 
-def cmd_synth(args) -> int:
-    from sielaff import synthesis
-    from sielaff.design.figures import FIGURES
-    from sielaff.engine.classify import KINDS, linkage_class
-    from sielaff.mechanism import FIELD_NAMES
-    from sielaff.quantities import unit
-    from sielaff.tools.common import CommandError, refuse_bad_output
-    from sielaff.tools.output import atomic_files
-    from sielaff.tools.spec import PunchError, read_spec, scene_of
+@dataclass(frozen=True)
+class Synthesis:
+    """A ``[synthesis]`` spec solved and ranked: the parsed spec and its task
+    (:func:`read_synthesis`), the unit system and scene, the candidates, which problem
+    each came from, the problems refused (one line each) and the :class:`Ranking`."""
 
-    path = args.spec
-    refuse_bad_output(args.output, [path])
-    if args.write_best and os.path.exists(args.write_best) and \
-            not os.path.isdir(args.write_best):
-        raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
-    if not path.endswith(".toml"):
-        raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
-    if not os.path.lexists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        units, scene = scene_of(spec, path)
-        task = read_synthesis(spec, path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
+    spec: dict
+    task: dict
+    units: str
+    scene: Any
+    candidates: list
+    origin: list[int]
+    refused: list[str]
+    ranking: Any
+
+
+def synthesize(path: str) -> Synthesis:
+    """Read the spec at ``path``, solve every problem of its ``[synthesis]`` and rank the
+    candidates (``sielaff synth``, and the page ``sielaff report`` makes of such a spec);
+    bad input is a CommandError of one line."""
+    from sielaff import synthesis
+    from sielaff.tools.common import CommandError, read_spec_with
+
+    _, scene, (spec, task) = read_spec_with(
+        path, lambda spec, where: (spec, read_synthesis(spec, where)), deck=False)
+    units = spec.get("scene", {}).get("units", "in-lb-sec")  # checked by scene_of
     cands, origin, refused = [], [], []
     for i, params in enumerate(task["problems"]):
         where = f"{path}: [synthesis.{task['problem']}]"
@@ -230,6 +232,35 @@ def cmd_synth(args) -> int:
                            mass_model=task["mass_model"], n=task["angles"], cf=task["cf"])
     except ValueError as exc:
         raise CommandError(f"{path}: {exc}") from None
+    return Synthesis(spec, task, units, scene, cands, origin, refused, r)
+
+
+def cmd_synth(args) -> int:
+    from sielaff.design.figures import FIGURES
+    from sielaff.engine.classify import KINDS, linkage_class
+    from sielaff.mechanism import FIELD_NAMES
+    from sielaff.quantities import unit
+    from sielaff.tools.common import (
+        CommandError,
+        refuse_bad_output,
+        refuse_stdout,
+        spec_path,
+    )
+    from sielaff.tools.output import atomic_files
+
+    path = args.spec
+    if args.output == "-":
+        args.output = None  # -o -: the ranked table on stdout, the status on stderr
+    refuse_bad_output(args.output, [path])
+    refuse_stdout(args.write_best, "--write-best writes several files into a folder")
+    if args.write_best and os.path.exists(args.write_best) and \
+            not os.path.isdir(args.write_best):
+        raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
+    if not spec_path(path):
+        raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
+    done = synthesize(path)
+    spec, task, units, scene = done.spec, done.task, done.units, done.scene
+    cands, origin, refused, r = done.candidates, done.origin, done.refused, done.ranking
     front = set(int(i) for i in r.pareto)
     figs = [f for f in FIGURES if f != "KIND"]
     header = (["RANK", "CANDIDATE", "PROBLEM", "BRANCH", "PARETO"]

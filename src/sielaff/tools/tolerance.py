@@ -21,7 +21,6 @@ runs the blocks on dask's local threads when dask is installed (the same numbers
 
 from __future__ import annotations
 
-import os
 from decimal import Decimal
 
 KEYS = ("n", "seed", "distribution", "angles", "cf", "deviations")
@@ -104,44 +103,55 @@ def table_lines(t, path: str) -> list[str]:
     return lines
 
 
-def cmd_tolerance(args) -> int:
-    import dataclasses
+def tolerance_spec(path: str):
+    """(the nominal deck in the spec's units, its Scene, the checked ``[tolerance]``) of
+    the spec at ``path`` (``sielaff tolerance``, and ``sielaff report``'s section);
+    bad input is a CommandError of one line, a nominal design that is not a
+    crank-rocker exit 3."""
+    from sielaff.tools.common import mechanism_problem, read_spec_with
 
+    deck, scene, task = read_spec_with(path, read_tolerance)
+    problem = mechanism_problem(deck)  # the nominal design is a crank-rocker (else exit 3)
+    if problem is not None:
+        raise problem
+    return deck, scene, task
+
+
+def run_tolerance(deck, scene, task: dict, workers: int | None = None):
+    """The tolerance study the spec asks for (:func:`sielaff.design.tolerance`), in
+    this process or, with ``workers`` > 1 and dask installed, on dask's local threads."""
     from sielaff.design.tolerance import tolerance
-    from sielaff.emulator.cards import parse_deck
-    from sielaff.tools.common import CommandError, refuse_bad_output
-    from sielaff.tools.output import atomic_output
-    from sielaff.tools.spec import PunchError, punch_deck, read_spec, scene_of
+    from sielaff.tools.common import CommandError
 
-    path = args.spec
-    refuse_bad_output(args.output, [path])
-    if not path.endswith(".toml"):
-        raise CommandError(f"{path}: tolerance reads a TOML spec with a [tolerance] table")
-    if not os.path.lexists(path):
-        raise CommandError(f"{path}: no such spec")
-    try:
-        spec = read_spec(path)
-        task = read_tolerance(spec, path)
-        units, scene = scene_of(spec, path)
-        mech_spec = {k: v for k, v in spec.items() if k != "tolerance"}
-        deck = parse_deck(punch_deck(mech_spec, path, any_units=True), path)
-    except PunchError as exc:
-        raise CommandError(str(exc), exc.status) from None
-    deck = dataclasses.replace(deck, mechanism=deck.mechanism.replace(units=units))
-    backend, workers = "process", None
-    if args.workers and args.workers > 1:
+    backend = "process"
+    if workers and workers > 1:
         try:
             import dask  # noqa: F401
         except ImportError:
-            pass
+            workers = None
         else:
-            backend, workers = "dask", args.workers
+            backend = "dask"
+    else:
+        workers = None
     try:
-        t = tolerance(deck.mechanism, task["deviations"], task["n"], scene=scene,
-                      seed=task["seed"], distribution=task["distribution"],
-                      angles=task["angles"], cf=task["cf"], backend=backend, workers=workers)
+        return tolerance(deck.mechanism, task["deviations"], task["n"], scene=scene,
+                         seed=task["seed"], distribution=task["distribution"],
+                         angles=task["angles"], cf=task["cf"], backend=backend,
+                         workers=workers)
     except ValueError as exc:
-        raise CommandError(f"{path}: {exc}") from None
+        raise CommandError(f"{deck.path}: {exc}") from None
+
+
+def cmd_tolerance(args) -> int:
+    from sielaff.tools.common import CommandError, refuse_bad_output, spec_path
+    from sielaff.tools.output import atomic_output
+
+    path = args.spec
+    refuse_bad_output(args.output, [path])
+    if not spec_path(path):
+        raise CommandError(f"{path}: tolerance reads a TOML spec with a [tolerance] table")
+    deck, scene, task = tolerance_spec(path)
+    t = run_tolerance(deck, scene, task, args.workers)
     text = "\n".join(table_lines(t, path)) + "\n"
     with atomic_output(args.output) as out:
         out.write(text)

@@ -27,7 +27,14 @@ def _need(module: str, extra: str, what: str) -> None:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    _need("mpmath", "bench", "bench (its 50-digit reference)")
+    if args.output == "-":
+        raise CommandError("sielaff: -o -: bench writes a report and its PNG figure, which "
+                           "standard output cannot hold: name the report's file")
+    effects = getattr(args, "effects", False)
+    if effects:
+        _need("scipy", "dynamics", "bench --effects (simulate)")
+    else:
+        _need("mpmath", "bench", "bench (its 50-digit reference)")
     if args.output:
         _need("matplotlib", "bench", "bench -o (the report's figure)")
         figure = os.path.splitext(args.output)[0] + ".png"
@@ -52,6 +59,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
             check_targets([args.output, figure])
         except OSError as exc:
             raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
+    if effects:
+        return _effects(args)
     from sielaff.tools.bench import study as s
     from sielaff.tools.bench.report import headline, write_report
 
@@ -64,6 +73,26 @@ def cmd_bench(args: argparse.Namespace) -> int:
               f"{os.path.splitext(args.output)[0]}.png", file=sys.stderr)
     return 0
 
+
+
+def _effects(args: argparse.Namespace) -> int:
+    """``--effects``: the friction solve's and simulate's accuracy against time (a small
+    grid, one round; ``benchmarks/effects_cost.py`` runs the full one into docs/)."""
+    from sielaff.tools.bench.effects import effects_study, headline, markdown, plot
+    from sielaff.tools.output import atomic_files
+
+    res = effects_study(True, progress=lambda t: print(f"sielaff bench: {t}", file=sys.stderr))
+    print(headline(res))
+    if args.output:
+        figure = os.path.splitext(args.output)[0] + ".png"
+        text = "# What accuracy costs for the effects\n\n" + markdown(
+            res, os.path.basename(figure), "sielaff bench --effects")
+        with atomic_files([args.output, figure]) as temps:
+            with open(temps[0], "w") as f:
+                f.write(text)
+            plot(res, temps[1])
+        print(f"sielaff bench: wrote {args.output} and {figure}", file=sys.stderr)
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:

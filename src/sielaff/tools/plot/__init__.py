@@ -475,11 +475,13 @@ def _draw_polar(plt, d: PlotData):
             fontsize=_LABEL_PT, color="tab:red", zorder=5, ha="center", va="center",
             arrowprops=dict(arrowstyle="-", color="tab:red", lw=0.6, shrinkA=0,
                             shrinkB=3) if leader else None))
-    if overlapping(text_boxes(fig)):
+    measured = text_boxes(fig)
+    if overlapping(measured):
         # Rare: the estimate of a box was off.  Put the labels that collide on the curve's
-        # outside, further out, with a leader, avoiding everything measured now.
+        # outside, further out, with a leader, avoiding everything measured now.  The
+        # figure is measured again (a whole draw) only after a label has moved.
         for label in labels:
-            others = [b for t, b in text_boxes(fig) if t != label.get_text()]
+            others = [b for t, b in measured if t != label.get_text()]
             mine = Text.get_window_extent(label, renderer)
             if not any(mine.x0 < b[2] and b[0] < mine.x1 and mine.y0 < b[3] and b[1] < mine.y1
                        for b in others):
@@ -488,6 +490,7 @@ def _draw_polar(plt, d: PlotData):
             boxes = [(b[0] - cx, b[1] - cy, b[2] - cx, b[3] - cy) for b in others]
             (dx, dy, _), = _place_labels([marks[k]], curve, boxes, [sizes[k]])
             label.set_position((dx * to_pt, dy * to_pt))
+            measured = text_boxes(fig)
     return fig
 
 
@@ -535,8 +538,9 @@ def cmd_plot(args) -> int:
     """``sielaff plot DECK -o DIR [--only kinematics]``: writes the PNGs, lists them on stdout."""
     import sys
 
-    from sielaff.tools.common import CommandError, load_scene
+    from sielaff.tools.common import CommandError, load_scene, refuse_stdout
 
+    refuse_stdout(args.output, "plot writes several PNG files into a folder")
     try:
         _pyplot()
     except ImportError as exc:

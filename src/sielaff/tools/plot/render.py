@@ -28,7 +28,7 @@ def text_boxes(fig) -> list[tuple[str, tuple[float, float, float, float]]]:
     """Every visible, non-empty text of ``fig`` with its box in display pixels
     (x0, y0, x1, y1), as the renderer draws it: titles, tick labels, legend entries,
     annotations.  The tests check that no two of them intersect."""
-    fig.canvas.draw()
+    fig.draw_without_rendering()  # the layout and the texts' sizes, no pixels
     renderer = fig.canvas.get_renderer()
     from matplotlib.text import Text
 
