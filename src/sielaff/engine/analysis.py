@@ -339,35 +339,49 @@ def _analyze_into(mechanism: Mechanism, ath2: Any, out: dict[str, np.ndarray], b
 
 
 def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Results:
-    """``analyze(..., backend="numba")`` (see analyze)."""
-    from sielaff.engine.compiled import compiled_results
+    """``analyze(..., backend="numba")``: one generated kernel for the wanted names,
+    writing straight into ``out``'s arrays (or fresh ones); see engine/compiled.py."""
+    from sielaff.engine.compiled import SUPPORTED, compiled_analyze
+    from sielaff.mechanism import MASS_DIVISOR, STANDARD_GRAVITY
 
-    model = req.model
-    missing = [n for n in req.wanted if n not in model.results]
-    if missing:
-        raise ValueError(f"backend='numba' gives the RESULTS names, not {missing}")
+    model, sc = req.model, req.scene
     if model is not FOURBAR:
         raise ValueError(f"backend='numba' compiles the four-bar model, not {model.name}")
-    th = np.asarray(req.ath2, dtype=float)
-    if out is not None:
-        _check_out(out, th.shape)
-    sc = req.scene
     if sc.friction is not None or sc.elements:
         raise ValueError("backend='numba' does not model pin friction, springs or dampers: "
                          "use backend='numpy'")
-    table = compiled_results(req.mechanism, th, sc.tex, th2dd=sc.th2dd, gravity=sc.gravity,
-                             loads=sc.loads, branch=sc.branch)
-    index = {name: i for i, name in enumerate(model.results)}
-    result = Results()
-    result.units, result.ath2 = req.mechanism.units, th
-    for name in req.wanted:
-        row = table[index[name]].reshape(th.shape)
-        if out is not None:
-            out[name][...] = row
-            row = out[name]
-        result[name] = row
-    result.not_assembled = int(np.count_nonzero(np.isnan(table[index["GAMMA"]])))  # s34
-    if result.not_assembled:  # RESULTS only here: no ASSEMBLED output to point to
-        _warn_not_assembled(result.not_assembled, th.size, stacklevel=4, mask=False)
-    return result
+    missing = [n for n in req.wanted if n not in SUPPORTED]
+    if missing:
+        raise ValueError(f"backend='numba' does not give {', '.join(missing)}: use "
+                         "backend='numpy'")
+    th = np.asarray(req.ath2, dtype=float)
+    shape = th.shape if out is not None or req.shape is None else req.shape
+    if out is not None:
+        _check_out(out, th.shape)
+    n = int(np.prod(shape))
 
+    def flat(v: Any) -> Any:  # a per-position array as the kernel takes it: 1-D, n
+        return v if callable(v) or np.ndim(v) == 0 else np.broadcast_to(
+            np.asarray(v, dtype=float), shape).reshape(-1)
+
+    p = dict(req.mechanism.as_dict())
+    p["GW"] = MASS_DIVISOR[req.mechanism.units]
+    g = sc.gravity
+    gx, gy = ((0.0, 0.0) if g is None else (0.0, -STANDARD_GRAVITY[req.mechanism.units])
+              if isinstance(g, str) else g)
+    loads = tuple((ld.link, *(flat(getattr(ld, k)) for k in ("r", "angle", "fx", "fy",
+                                                              "torque")))
+                  for ld in sc.loads)
+    flat_out = None if out is None else {k: out[k].reshape(-1) for k in req.wanted}
+    got, bad = compiled_analyze(p, np.broadcast_to(th, shape).reshape(-1),
+                                tex=flat(sc.tex), th2dd=flat(sc.th2dd), gx=gx, gy=gy,
+                                loads=loads, branch=1.0 if sc.branch == "open" else -1.0,
+                                wanted=req.wanted, out=flat_out)
+    result = Results()
+    result.units, result.ath2 = req.mechanism.units, req.ath2
+    for name in req.wanted:
+        result[name] = out[name] if out is not None else got[name].reshape(shape)
+    result.not_assembled = bad
+    if bad:  # no ASSEMBLED output from this backend to point to
+        _warn_not_assembled(bad, n, stacklevel=4, mask=False)
+    return result
