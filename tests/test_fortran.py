@@ -68,6 +68,7 @@ def decks(draw):
     return "\n".join("".join(_field(v) for v in card) for card in values) + "\n"
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(decks(), st.sampled_from(MODELS))

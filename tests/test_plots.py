@@ -238,6 +238,7 @@ def test_plot_writes_the_figures(tmp_path):
     check_pngs([out_dir / name for name in FORCE_FILES[1:]], 880, 924)
 
 
+@pytest.mark.slow
 def test_plot_kinematics_only(tmp_path):
     status, out, err = plot_subprocess(str(DECKS / "example.dat"), "-o", str(tmp_path),
                                        "--only", "kinematics")

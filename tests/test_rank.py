@@ -191,6 +191,7 @@ def test_synth_command_csv_and_best_specs(tmp_path):
     assert "no deck for best-1: it runs on the crossed branch" in r.stderr
 
 
+@pytest.mark.slow
 def test_synth_writes_decks_where_they_can_hold_it(tmp_path):
     pytest.importorskip("scipy")
     spec = tmp_path / "p.toml"

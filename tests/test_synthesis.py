@@ -560,6 +560,7 @@ def test_path_through_reachable_points(R, th, cp):
     check_no_defect(res)
 
 
+@pytest.mark.slow
 def test_path_prescribed_crank_angles():
     pytest.importorskip("scipy")
     R, th, cp = PATHS[0]
