@@ -274,6 +274,7 @@ def _scene(n, rng):
     return dict(tex=tex, th2dd=th2dd, gravity=(3.0, -386.088), loads=loads)
 
 
+@pytest.mark.slow  # compiles kernels of their own: minutes on a fresh machine
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 @pytest.mark.parametrize("kind", DRAWN_KINDS)
 @settings(max_examples=4, derandomize=True, deadline=None)
@@ -291,6 +292,7 @@ def test_drawn_linkages_with_every_effect(kind, branch, data, w, pl, th2d, seed)
     assert bad == ref_bad
 
 
+@pytest.mark.slow  # compiles kernels of their own: minutes on a fresh machine
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 @pytest.mark.parametrize("kind", sorted(KIND_EXAMPLES))
 def test_each_kind_each_branch_every_effect(kind, branch):
@@ -302,6 +304,7 @@ def test_each_kind_each_branch_every_effect(kind, branch):
     assert bad == ref_bad
 
 
+@pytest.mark.slow  # compiles kernels of their own: minutes on a fresh machine
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 def test_steps_the_numpy_engine_skips(branch):
     """TH2D = 0 (a crank starting from rest), a massless coupler, no TEX: the numpy
