@@ -37,10 +37,13 @@ def main() -> None:
     print(*write_bearings(deck, folder, {}))
     import subprocess
     import sys
+    import tempfile
 
     target = os.path.join(folder, "sweep-pareto.png")
-    subprocess.run([sys.executable, "-m", "sielaff", "sweep", "decks/sweep.toml", "-o",
-                    os.devnull, "--plot", target], cwd=ROOT, check=True)
+    with tempfile.TemporaryDirectory() as scratch:  # the CSV is not kept (-o takes a file)
+        subprocess.run([sys.executable, "-m", "sielaff", "sweep", "decks/sweep.toml", "-o",
+                        os.path.join(scratch, "sweep.csv"), "--plot", target], cwd=ROOT,
+                       check=True)
     print(target)
 
 

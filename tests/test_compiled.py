@@ -237,11 +237,12 @@ SPEED = st.one_of(st.floats(-300.0, -0.5), st.floats(0.5, 300.0))
 
 
 def _mech(r, w, pl, th2d):
-    """A drawn mechanism; change-point linkages (within 1% of s + l = p + q) are left to
+    """A drawn mechanism; near-change-point linkages (within 3% of s + l = p + q: the
+    bound is not claimed there, see compiled.py) are left to
     the example of that kind: a drawn rhombus folds through A = O4 and its
     zero-in-exact-arithmetic forces carry roundoff past the bound (not covered)."""
     c = linkage_class(EXAMPLE.replace(R1=r[0], R2=r[1], R3=r[2], R4=r[3]))
-    assume(abs(c.grashof_margin) > 0.01 * c.grashof_sum)
+    assume(abs(c.grashof_margin) > 0.03 * c.grashof_sum)
     return EXAMPLE.replace(R1=r[0], R2=r[1], R3=r[2], R4=r[3], W2=w[0], W3=w[1], W4=w[2],
                            ZI2=w[3], ZI3=w[4], ZI4=w[5], ADEL2=pl[0], ADEL3=pl[1],
                            ADEL4=pl[2], RG2=pl[3], RG3=pl[4], RG4=pl[5], TH2D=th2d)

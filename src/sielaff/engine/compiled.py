@@ -48,8 +48,10 @@ Error bound (stated and tested in tests/test_compiled.py, against the numpy engi
     showed forces 1.7 times past the cube).  NaN and infinities exactly where the numpy engine has
     them, except at a toggle to within roundoff (|sin GAMMA| < 1e-6), where either
     engine's rates are infinite or NaN by the luck of rounding (0 / 0, inf - inf).
-    Not covered: change-point linkages (s + l = p + q within 1%) other than at their
-    well-conditioned positions; a rhombus (R1 = R2 = R3 = R4) folds through A = O4 and
+    Not covered: linkages near a change point (s + l = p + q within 3% of the Grashof
+    sum: drawn double rockers at 1.4%, R = 1, 8.25, 0.5, 8 and 1.5, 16.19, 0.84, 16,
+    showed forces 1.2-1.4 times past the bound) other than at their well-conditioned
+    positions; a rhombus (R1 = R2 = R3 = R4) folds through A = O4 and
     its forces that are zero in exact arithmetic carry roundoff past the bound in both
     engines.
 
