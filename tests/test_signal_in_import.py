@@ -43,3 +43,34 @@ def test_an_import_error_without_a_signal_is_not_dressed_as_one(monkeypatch):
     monkeypatch.setattr(cli, "_command", lambda name: command)
     with pytest.raises(ImportError, match="a real one"):
         cli.main(["check", str(DECKS / "example.dat")])
+
+
+DEL_SCRIPT = """
+import os, signal, time
+from sielaff.tools import common
+common.install_signal_handlers(process=True)
+class Finalised:
+    def __del__(self):  # as matplotlib's transforms' weakref callbacks run
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(0.05)  # the handler runs here, inside __del__
+try:
+    Finalised()
+    for _ in range(300):
+        time.sleep(0.01)
+    print("not terminated")
+except common.Terminated as exc:
+    print("terminated", exc.status)
+"""
+
+
+def test_a_signal_inside_a_finaliser_still_unwinds_the_command():
+    """A SIGTERM whose handler runs inside a ``__del__`` or a weakref callback cannot
+    unwind from there (Python prints it as "Exception ignored" with a traceback and goes
+    on); the process sends it again, and the command unwinds in one piece."""
+    import subprocess
+    import sys
+
+    r = subprocess.run([sys.executable, "-c", DEL_SCRIPT], capture_output=True, text=True,
+                       timeout=60)
+    assert r.stdout.split() == ["terminated", "143"], r.stdout + r.stderr
+    assert r.stderr == "", r.stderr

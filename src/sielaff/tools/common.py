@@ -61,6 +61,27 @@ def _raise_terminated(signum, _frame) -> None:
     raise Terminated(signum)
 
 
+def _unraisable(unraisable) -> None:
+    """sys.unraisablehook of the ``sielaff`` process: a signal raised inside a weakref
+    callback or a ``__del__`` (matplotlib's transforms have them) cannot unwind the
+    command; Python would print it as a traceback and go on.  Send it again, from a
+    thread, a moment later: it lands in the command's own code and unwinds it."""
+    exc = unraisable.exc_value
+    if not isinstance(exc, Terminated | KeyboardInterrupt):
+        sys.__unraisablehook__(unraisable)
+        return
+    import threading
+    import time
+
+    signum = exc.signum if isinstance(exc, Terminated) else signal.SIGINT
+
+    def again() -> None:
+        time.sleep(0.01)  # let the hook return first
+        os.kill(os.getpid(), signum)
+
+    threading.Thread(target=again, daemon=True).start()
+
+
 def install_signal_handlers(process: bool = False) -> None:
     """SIGTERM and SIGHUP (``timeout``, a closed terminal) end a run the way Ctrl-C does:
     every output written whole or not at all, the temporary file removed.  They wait
@@ -68,6 +89,8 @@ def install_signal_handlers(process: bool = False) -> None:
     so does Ctrl-C when ``process`` (the ``sielaff`` process itself: in-process callers
     keep Python's own Ctrl-C)."""
     SIGNAL_STATE.update(process=process, finished=False, raised=None)
+    if process:
+        sys.unraisablehook = _unraisable
     for name in ("SIGTERM", "SIGHUP", "SIGINT"):
         if hasattr(signal, name):
             if name == "SIGINT" and (not process or signal.getsignal(signal.SIGINT) is not
