@@ -353,7 +353,8 @@ def _inline(lines: list[str], fns: dict[str, ast.FunctionDef], counter: list[int
         for st in fn.body:
             if isinstance(st, ast.Expr) and isinstance(st.value, ast.Constant):
                 continue  # the docstring
-            if isinstance(st, ast.Return):
+            if isinstance(st, ast.Return) and st.value is not None:
+                assert isinstance(stmt, ast.Assign)  # the call's line (checked above)
                 value = ren.visit(copy.deepcopy(st.value))
                 body.append(f"{ast.unparse(stmt.targets[0])} = {ast.unparse(value)}")
             else:
@@ -1061,16 +1062,16 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
     if not load_code:
         zero.add("NLOADS")
     scalars = tuple(sorted(vals))
-    key = (wanted, frozenset(zero), tuple(arrays), scalars,
-           tuple((link, tuple(sorted(f.items()))) for link, f in load_code))
+    cache_key = (wanted, frozenset(zero), tuple(arrays), scalars,
+                 tuple((link, tuple(sorted(f.items()))) for link, f in load_code))
     with _LOCK:
-        kernel = _KERNELS.get(key)
+        kernel = _KERNELS.get(cache_key)
         if kernel is None and not available():
             raise ImportError("backend='numba' needs numba, the fast extra: pip install "
                               "\"sielaff[fast]\" (or use backend='numpy')")
         if kernel is None:
             src = _source(wanted, frozenset(zero), scalars, arrays, load_code)
-            kernel = _KERNELS[key] = _compile(src, len(arrays), len(wanted))
+            kernel = _KERNELS[cache_key] = _compile(src, len(arrays), len(wanted))
     P = _mechanism_params(p, gx, gy, branch)
     S = np.array([vals[s] for s in scalars], dtype=float)
     result: dict[str, np.ndarray] = {}
