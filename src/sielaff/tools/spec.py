@@ -83,12 +83,14 @@ from sielaff.tools.spec_fields import (
     spec_number,
     spec_text,
     spec_values,
+    spec_whole,
 )
 from sielaff.tools.spec_scene import scene_of
 from sielaff.tools.spec_sweep import sweep_of
 
 __all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "read_spec", "scene_of",
-           "spec_deck", "spec_dict", "spec_number", "spec_text", "spec_values", "sweep_of"]
+           "spec_deck", "spec_dict", "spec_number", "spec_text", "spec_values", "spec_whole",
+           "sweep_of"]
 
 WIDTH = 8
 #: A spec file is read up to this many bytes; a longer one (or /dev/zero) is refused.

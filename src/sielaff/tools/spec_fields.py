@@ -16,7 +16,7 @@ from decimal import Decimal
 from sielaff.tools.errors import EXIT_DECK as EXIT_SPEC
 
 __all__ = ["MAX_DIGITS", "MAX_EXPONENT", "OTHER_TABLES", "PunchError", "spec_dict",
-           "spec_number", "spec_text", "spec_values"]
+           "spec_number", "spec_text", "spec_values", "spec_whole"]
 
 LINKS = ("crank", "coupler", "rocker")
 #: (section, key, sub-key or None) -> listing name.
@@ -100,6 +100,16 @@ def spec_number(where: str, value) -> Decimal:
 
 
 _number = spec_number
+
+
+def spec_whole(where: str, key: str, value, lo: int, hi: int, even: bool = False) -> int:
+    """``value`` as a whole number from ``lo`` to ``hi`` (and even, if ``even``: a count
+    of crank angles); PunchError naming ``where`` and ``key`` if not."""
+    if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi) \
+            or (even and value % 2):
+        raise PunchError(f"{where} {key} = {value!r}: a whole number from {lo} to {hi}"
+                         + (", even" if even else ""))
+    return value
 
 
 def _table(where: str, value) -> dict:

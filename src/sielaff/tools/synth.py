@@ -86,7 +86,7 @@ def _function(name: Any):
 def read_synthesis(spec: dict, path: str) -> dict:
     """The ``[synthesis]`` table checked: problem, params (list of dicts), ranking."""
     from sielaff.synthesis.rank import RANKABLE
-    from sielaff.tools.spec import PunchError
+    from sielaff.tools.spec import PunchError, spec_whole
 
     table = spec.get("synthesis")
     if not isinstance(table, dict) or not table:
@@ -137,12 +137,7 @@ def read_synthesis(spec: dict, path: str) -> dict:
                              f"and {hi:g}")
         out[key] = float(v)
     for key, default, lo, hi in (("angles", 360, 8, 100_000), ("best", 1, 0, 1000)):
-        v = table.get(key, default)
-        if not (isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi) \
-                or (key == "angles" and v % 2):
-            raise PunchError(f"{where} {key} = {v!r}: a whole number from {lo} to {hi}"
-                             + (", even" if key == "angles" else ""))
-        out[key] = v
+        out[key] = spec_whole(where, key, table.get(key, default), lo, hi, key == "angles")
     model = {}
     for key in ("density", "area"):
         if key in table:

@@ -30,7 +30,7 @@ def read_tolerance(spec: dict, path: str) -> dict:
     """The ``[tolerance]`` table checked (PunchError naming the key)."""
     from sielaff.design.tolerance import DISTRIBUTIONS, MAX_SAMPLES
     from sielaff.mechanism import FIELD_NAMES
-    from sielaff.tools.spec import PunchError
+    from sielaff.tools.spec import PunchError, spec_whole
 
     table = spec.get("tolerance")
     where = f"{path}: [tolerance]"
@@ -42,12 +42,7 @@ def read_tolerance(spec: dict, path: str) -> dict:
     out = {}
     for key, default, lo, hi in (("n", 1000, 1, MAX_SAMPLES), ("seed", 0, 0, 2 ** 63 - 1),
                                  ("angles", 360, 8, 100_000)):
-        v = table.get(key, default)
-        if not (isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi) \
-                or (key == "angles" and v % 2):
-            raise PunchError(f"{where} {key} = {v!r}: a whole number from {lo} to {hi}"
-                             + (", even" if key == "angles" else ""))
-        out[key] = v
+        out[key] = spec_whole(where, key, table.get(key, default), lo, hi, key == "angles")
     dist = table.get("distribution", "normal")
     if dist not in DISTRIBUTIONS:
         raise PunchError(f"{where} distribution = {dist!r}: \"normal\" or \"uniform\"")
