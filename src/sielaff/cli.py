@@ -468,7 +468,6 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
 
 def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     from sielaff.tools.common import take_stdin
-    from sielaff.tools.output import changed_note
 
     try:
         take_stdin(args)  # an input named -: standard input, called <stdin>
@@ -482,13 +481,11 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     except KeyboardInterrupt:
         if debug:
             raise
-        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return _said_signal(signal.SIGINT)
     except Terminated as exc:
         if debug:
             raise
-        print(f"sielaff: terminated by {exc.name}; {changed_note()}", file=sys.stderr)
-        return exc.status
+        return _said_signal(exc.signum)
     except BrokenPipeError:
         # The reader went away (``sielaff run deck | head``): leave quietly.
         silence_stdout()
@@ -505,12 +502,20 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         signum = SIGNAL_STATE["raised"]
         if debug or signum is None:
             raise
-        if signum == signal.SIGINT:
-            print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
-            return EXIT_INTERRUPTED
-        print(f"sielaff: terminated by {signal.Signals(signum).name}; {changed_note()}",
-              file=sys.stderr)
-        return 128 + signum
+        return _said_signal(signum)
+
+
+def _said_signal(signum: int) -> int:
+    """Say on stderr that signal ``signum`` ended the run, and what it left of the outputs;
+    its exit status (130 for Ctrl-C, 128 + N for another)."""
+    from sielaff.tools.output import changed_note
+
+    if signum == signal.SIGINT:
+        print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(f"sielaff: terminated by {signal.Signals(signum).name}; {changed_note()}",
+          file=sys.stderr)
+    return 128 + signum
 
 
 #: numpy's BLAS starts a pool of threads, one per core, as it loads; sielaff calls no BLAS
@@ -542,9 +547,5 @@ def entry() -> None:
     try:
         status = main()
     except (KeyboardInterrupt, Terminated) as exc:
-        from sielaff.tools.output import changed_note
-
-        what = f"terminated by {exc.name}" if isinstance(exc, Terminated) else "interrupted"
-        print(f"sielaff: {what}; {changed_note()}", file=sys.stderr)
-        status = getattr(exc, "status", EXIT_INTERRUPTED)
+        status = _said_signal(exc.signum if isinstance(exc, Terminated) else signal.SIGINT)
     sys.exit(status)
