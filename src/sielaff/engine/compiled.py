@@ -149,9 +149,10 @@ def _floor(x):
 
 
 def _intrinsics():
-    """(_select, _floor) for numba: one LLVM instruction each, no call, no branch."""
+    """(_select, _floor, _address, _stream4, _sfence, _fma) for numba: each one LLVM
+    instruction (or two), no call, no branch."""
     import llvmlite.ir as ir
-    from numba.core import types
+    from numba.core import cgutils, types
     from numba.extending import intrinsic
 
     @intrinsic
@@ -180,7 +181,113 @@ def _intrinsics():
 
         return types.float64(x), codegen
 
-    return select, floor
+    @intrinsic
+    def fma(typingctx, x, y, z):
+        """x y + z rounded once (llvm.fma: vfmadd, the same result on every CPU)."""
+        if not all(isinstance(a, types.Float) for a in (x, y, z)):
+            return None
+
+        def codegen(context, builder, sig, args):
+            fn = builder.module.declare_intrinsic("llvm.fma", [ir.DoubleType()])
+            v = [context.cast(builder, a, t, types.float64) for a, t in zip(args, sig.args)]
+            return builder.call(fn, v)
+
+        return types.float64(x, y, z), codegen
+
+    @intrinsic
+    def address(typingctx, a):
+        """The address of an array's first element."""
+        if not isinstance(a, types.Array):
+            return None
+
+        def codegen(context, builder, sig, args):
+            arr = context.make_array(sig.args[0])(context, builder, args[0])
+            return builder.ptrtoint(arr.data, ir.IntType(64))
+
+        return types.uint64(a), codegen
+
+    @intrinsic
+    def stream4(typingctx, dst, k, src, j, i):
+        """dst[k:k+4] = src[j, i:i+4], one non-temporal 32-byte store (dst + 8 k must
+        be 32-byte aligned): the cache line goes to memory without being read first."""
+        if not (isinstance(dst, types.Array) and isinstance(src, types.Array)
+                and src.ndim == 2 and src.layout == "C"):
+            return None
+
+        def codegen(context, builder, sig, args):
+            d = context.make_array(sig.args[0])(context, builder, args[0])
+            s = context.make_array(sig.args[2])(context, builder, args[2])
+            kk, jj, ii = (context.cast(builder, args[n], sig.args[n], types.intp)
+                          for n in (1, 3, 4))
+            ncol = builder.extract_value(s.shape, 1)
+            sp = builder.gep(s.data, [builder.add(builder.mul(jj, ncol), ii)])
+            vec = ir.VectorType(ir.DoubleType(), 4)
+            v = builder.load(builder.bitcast(sp, vec.as_pointer()), align=8)
+            st = builder.store(v, builder.bitcast(builder.gep(d.data, [kk]), vec.as_pointer()),
+                               align=32)
+            st.set_metadata("nontemporal", builder.module.add_metadata(
+                [ir.Constant(ir.IntType(32), 1)]))
+            return context.get_dummy_value()
+
+        return types.none(dst, k, src, j, i), codegen
+
+    @intrinsic
+    def sfence(typingctx):
+        """Orders the non-temporal stores before anything after the kernel."""
+        def codegen(context, builder, sig, args):
+            fn = cgutils.get_or_insert_function(
+                builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse.sfence")
+            builder.call(fn, [])
+            return context.get_dummy_value()
+
+        return types.none(), codegen
+
+    return select, floor, address, stream4, sfence, fma
+
+
+# Python stand-ins for the intrinsics (the helpers run as plain Python in the tests)
+_uintp = int
+
+
+def _address(a):
+    return a.ctypes.data
+
+
+def _stream4(dst, k, src, j, i):
+    dst[k:k + 4] = src[j, i:i + 4]
+
+
+def _sfence():
+    return None
+
+
+def _fma(x, y, z):
+    """x y + z rounded once (the kernel's ``llvm.fma``), exactly, in Python."""
+    if not all(math.isfinite(v) for v in (x, y, z)):
+        return x * y + z
+    from fractions import Fraction
+
+    return float(Fraction(x) * Fraction(y) + Fraction(z))
+
+
+def _put(o, s0, sc, j, m, stream):
+    """o[s0:s0+m] = sc[j, :m]; with ``stream``, the whole 64-byte lines of o by
+    non-temporal stores (o's elements 8-byte aligned; a partial line at either end by
+    plain stores: a line written in two halves by streaming stores costs a read)."""
+    q = _uintp(0)
+    if stream:
+        a = _address(o) + s0 * _uintp(8)
+        h = ((_uintp(64) - (a & _uintp(63))) & _uintp(63)) >> _uintp(3)
+        h = _select(h < m, h, m)
+        for i in range(h):
+            o[s0 + i] = sc[j, i]
+        q = h
+        while q + _uintp(8) <= m:
+            _stream4(o, s0 + q, sc, j, q)
+            _stream4(o, s0 + q + _uintp(4), sc, j, q + _uintp(4))
+            q += _uintp(8)
+    for i in range(q, m):
+        o[s0 + i] = sc[j, i]
 
 
 def _mod360(x):
@@ -719,7 +826,7 @@ def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str], shortcut: bool = 
 _PARAMS = ("R1", "R2", "R3", "R4", "RG2", "RG3", "RG4", "W2", "W3", "W4", "ZI2", "ZI3", "ZI4",
            "ADEL2", "ADEL4", "TH2D", "GW", "GX", "GY", "R1s", "R2s", "R3s", "R4s", "TOL",
            "R3R4M", "R3R4P", "HALF_R3", "KK", "BRANCH_SIGN", "CA2", "SA2", "CA3", "SA3",
-           "CA4", "SA4")
+           "CA4", "SA4", "STREAM")
 
 
 def _source(wanted, zero_seeds, scalars, arrays, loads):
@@ -769,8 +876,8 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
         "            ATH2 = th[s0 + i]",
         *(f"            {name} = xin_{j}[s0 + i]" for j, name in enumerate(arrays)),
         *("            " + x for x in body),
-        *(f"        for i in range(m):\n            o_{j}[s0 + i] = sc[{j}, i]"
-          for j in range(len(wanted))),
+        *(f"        _put(o_{j}, s0, sc, _uintp({j}), m, STREAM)" for j in range(len(wanted))),
+        "    _sfence()",
         "    return bad", ""])
 
 
@@ -778,6 +885,12 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
 #: the cache, then copies each row out (71 output streams at once defeat the hardware's
 #: prefetch; one row at a time does not).
 BLOCK = 256
+
+
+#: Bytes of output from which the kernel writes it by streaming (non-temporal) stores:
+#: more than a last-level cache holds, so no later read finds it cached anyway, and a
+#: streaming store spares the read of each line before it is written.
+STREAM_BYTES = 1 << 24
 
 
 _KERNELS: dict[Any, Any] = {}
@@ -827,13 +940,23 @@ def kernel_dir() -> Path | None:
 
 
 def _module_text(source: str) -> str:
+    import hashlib
+    import inspect
+
     consts = "".join(f"{k} = {v!r}\n" for k, v in sorted(globals().items())
                      if k.startswith("_") and k[1:2].isupper() and isinstance(v, float))
+    # the intrinsics' code is not in the text: its hash is, so that a changed intrinsic
+    # is a new module (numba's cache does not look into what a kernel calls)
+    version = hashlib.sha256(inspect.getsource(_intrinsics).encode()).hexdigest()[:16]
     return ("# generated by sielaff.engine.compiled (see there); do not edit\n"
+            f"# intrinsics {version}\n"
             "import math\n\nimport numba\nimport numpy as np\n\n"
             "from sielaff.engine.compiled import _intrinsics\n\n"
-            "_select, _floor = _intrinsics()\n_uintp = numba.uintp\n"
+            "_select, _floor, _address, _stream4, _sfence, _fma = _intrinsics()\n"
+            "_uintp = numba.uintp\n"
             f"DEGREES = {DEGREES!r}\nRADIANS = {RADIANS!r}\n{consts}\n\n"
+            "@numba.njit(error_model='numpy', nogil=True, cache=CACHE)\n"
+            + inspect.getsource(_put) + "\n\n"
             "@numba.njit(error_model='numpy', nogil=True, cache=CACHE)\n" + source)
 
 
@@ -923,7 +1046,7 @@ def _mechanism_params(p: dict[str, float], gx: float, gy: float, branch: float) 
                 R3R4M=R3s * R3s - R4s * R4s, R3R4P=R3s * R3s + R4s * R4s,
                 HALF_R3=0.5 / R3s, KK=-0.5 / (R3s * R4s), BRANCH_SIGN=1.0 if branch == 1.0
                 else -1.0, CA2=rot[0], SA2=rot[1], CA3=rot[2], SA3=rot[3], CA4=rot[4],
-                SA4=rot[5])
+                SA4=rot[5], STREAM=0.0)
     return np.array([float(vals[n]) for n in _PARAMS])
 
 
@@ -1088,6 +1211,9 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
     if not isinstance(threads, int) or threads < 1:
         raise ValueError(f"threads = {threads!r}: 1 or more")
     outs = list(result.values())
+    # outputs larger than a cache are written by streaming stores (see _put)
+    P[_PARAMS.index("STREAM")] = float(n * len(outs) * 8 >= STREAM_BYTES
+                                       and all(o.flags.aligned for o in outs))
     if threads == 1 or n < 2 * BLOCK * threads:
         bad = kernel(th, P, S, _scratch(len(wanted)), *xs, *outs) if n else 0
         return result, int(bad)
