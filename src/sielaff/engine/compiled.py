@@ -137,6 +137,19 @@ _PI4_HI, _PI4_LO = 0.7853981633974483, 3.061616997868383e-17
 _PI2_HI, _PI2_LO = 1.5707963267948966, 6.123233995736766e-17
 _PI_HI, _PI_LO = 3.141592653589793, 1.2246467991473532e-16
 
+# the polynomials' coefficients, lowest first (benchmarks/fit_transcendentals.py prints
+# them and the error of each polynomial: Chebyshev fits in 200-bit arithmetic, rounded)
+(_A0, _A1, _A2, _A3, _A4, _A5, _A6, _A7) = (
+    -0.3333333333333333, 0.1999999999999729, -0.1428571428427355, 0.11111110818998077,
+    -0.0909087995193466, 0.07690724472468718, -0.06618732486766733, 0.05115745967981171)
+(_S0, _S1, _S2, _S3, _S4, _S5, _S6) = (
+    -0.16666666666666666, 0.008333333333333331, -0.00019841269841265065,
+    2.7557319219339167e-06, -2.5052106232447578e-08, 1.6058531618986147e-10,
+    -7.586697117706918e-13)
+(_C0, _C1, _C2, _C3, _C4, _C5) = (
+    0.041666666666666664, -0.0013888888888887398, 2.480158729876569e-05,
+    -2.7557317271729793e-07, 2.08761462684032e-09, -1.1382632425521717e-11)
+
 
 def _select(c, a, b):
     """``a if c else b``; compiled, one LLVM select (no branch, no basic block)."""
@@ -188,7 +201,8 @@ def _intrinsics():
             return None
 
         def codegen(context, builder, sig, args):
-            fn = builder.module.declare_intrinsic("llvm.fma", [ir.DoubleType()])
+            d = ir.DoubleType()
+            fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
             v = [context.cast(builder, a, t, types.float64) for a, t in zip(args, sig.args)]
             return builder.call(fn, v)
 
@@ -306,13 +320,12 @@ def _sincos(x):
     q = _floor(x * _TWO_OVER_PI + 0.5)
     r = ((x - q * _P1) - q * _P2) - q * _P3  # |r| <= pi/4
     z = r * r
-    # Taylor to x^17 and x^18: the first term left out is below 1e-19 for |r| <= pi/4
-    s = r + r * z * (-1.0 / 6.0 + z * (1.0 / 120.0 + z * (-1.0 / 5040.0 + z * (
-        1.0 / 362880.0 + z * (-1.0 / 39916800.0 + z * (1.0 / 6227020800.0 + z * (
-            -1.0 / 1307674368000.0 + z * (1.0 / 355687428096000.0))))))))
-    c = 1.0 - 0.5 * z + z * z * (1.0 / 24.0 + z * (-1.0 / 720.0 + z * (1.0 / 40320.0 + z * (
-        -1.0 / 3628800.0 + z * (1.0 / 479001600.0 + z * (-1.0 / 87178291200.0 + z * (
-            1.0 / 20922789888000.0 + z * (-1.0 / 6402373705728000.0))))))))
+    # Chebyshev fits (benchmarks/fit_transcendentals.py): sin r = r + r z S(z), cos r =
+    # 1 - z/2 + z^2 C(z), each within 1e-17 of the function for |r| <= pi/4; Horner by fma
+    s = _fma(_fma(_fma(_fma(_fma(_fma(_S6, z, _S5), z, _S4), z, _S3), z, _S2), z, _S1), z, _S0)
+    s = _fma(r * z, s, r)
+    c = _fma(_fma(_fma(_fma(_fma(_C5, z, _C4), z, _C3), z, _C2), z, _C1), z, _C0)
+    c = _fma(z * z, c, 1.0 - 0.5 * z)
     m = q - 4.0 * _floor(q * 0.25)  # the quadrant, 0..3
     sn = _select(m == 1.0, c, s)
     sn = _select(m == 2.0, -s, sn)
@@ -343,11 +356,11 @@ def _atan2(y, x):
     a_lo = _select(hi2, _PI4_LO, _select(hi1, _ATAN8_LO, 0.0))
     u = (mn - c * mx) / (mx + c * mn)
     w = u * u
-    # Taylor to u^23: the first term left out is below 1e-18 |u| for |u| <= tan(pi/16)
-    p = u * w * (-1.0 / 3.0 + w * (1.0 / 5.0 + w * (-1.0 / 7.0 + w * (1.0 / 9.0 + w * (
-        -1.0 / 11.0 + w * (1.0 / 13.0 + w * (-1.0 / 15.0 + w * (1.0 / 17.0 + w * (
-            -1.0 / 19.0 + w * (1.0 / 21.0 + w * (-1.0 / 23.0)))))))))))
-    a = a_hi + (a_lo + (u + p))
+    # a Chebyshev fit (benchmarks/fit_transcendentals.py): atan u = u + u w A(w), within
+    # 1e-18 |u| for |u| <= tan(pi/16); Horner by fma
+    p = _fma(_fma(_fma(_fma(_fma(_fma(_fma(_A7, w, _A6), w, _A5), w, _A4), w, _A3), w, _A2), w,
+                  _A1), w, _A0)
+    a = a_hi + (a_lo + _fma(u * w, p, u))
     a = _select(sw, _PI2_HI - (a - _PI2_LO), a)
     a = _select(x < 0.0, _PI_HI - (a - _PI_LO), a)
     return math.copysign(a, y)
