@@ -354,7 +354,7 @@ def _atan2(y, x):
     c = _select(hi2, 1.0, _select(hi1, _TAN8, 0.0))
     a_hi = _select(hi2, _PI4_HI, _select(hi1, _ATAN8_HI, 0.0))
     a_lo = _select(hi2, _PI4_LO, _select(hi1, _ATAN8_LO, 0.0))
-    u = (mn - c * mx) / (mx + c * mn)
+    u = _fma(-c, mx, mn) / _fma(c, mn, mx)
     w = u * u
     # a Chebyshev fit (benchmarks/fit_transcendentals.py): atan u = u + u w A(w), within
     # 1e-18 |u| for |u| <= tan(pi/16); Horner by fma
@@ -423,8 +423,27 @@ def _turned(m, k, ath2, phi):
     return d + 0.0
 
 
-_HELPERS = (_turned, _mod360, _sincos, _atan2, _link_angle, _direction, _magnitude, _rot_direction,
-            _gamma, _crank)
+def _between(a3, a4):
+    """The unsigned angle between two lines at a3 and a4 degrees (each in (-90, 270]),
+    in [0, 180]: GAMMA from ATH3 and ATH4 (no atan2 of its own)."""
+    g = abs(a4 - a3)
+    return _select(g > 180.0, 360.0 - g, g)
+
+
+def _acc_direction(line, turn, phi, r, w2, a, nz):
+    """The direction in degrees, [0, 360), of r e^{i(line + turn)} (-w2 + i a): ``line``
+    in degrees, ``turn`` a constant of the call in [0, 360) (with 180 added where r < 0),
+    ``phi`` the direction of (-w2, a); 0 for the zero vector (r = 0, or w2 = a = 0), or
+    ``nz``, NaN where an ingredient is not finite, as the components would be."""
+    d = _mod360(line + turn)
+    d = _mod360(d + phi)
+    d = _select(d >= 360.0, 0.0, d)
+    d = _select((r == 0.0) | ((w2 == 0.0) & (a == 0.0)), nz, d)
+    return d + 0.0
+
+
+_HELPERS = (_between, _acc_direction, _turned, _mod360, _sincos, _atan2, _link_angle,
+            _direction, _magnitude, _rot_direction, _gamma, _crank)
 _HELPER_ASTS: dict[str, ast.FunctionDef] = {}
 
 
@@ -797,6 +816,28 @@ _ACC2_SHORTCUT = {
              "DAG2 = _turned(abs(RG2) * K_ACC2, K_ACC2, ATH2, PHI_AG2)"),
 }
 
+#: Where the plan computes ATH3 and ATH4 anyway: GAMMA is the angle between them (the
+#: numpy engine takes atan2(|s34|, c34); the two differ by the angles' roundoff, some
+#: 1e-13 degrees at most, against a bound of ERROR_BOUND 360 degrees).
+_GAMMA_SHORTCUT = {"GAMMA": (("GAMMA",), ("ATH3", "ATH4"), (), "GAMMA = _between(ATH3, ATH4)")}
+
+#: Where the plan computes ATH4 anyway and wants both DAB and DAG4: AB = R4 e^{i ATH4}
+#: (-TH4D^2 + i TH4DD) and AG4 the same from RG4 and ATH4 + ADEL4, so both directions are
+#: ATH4 plus one angle PHI4 per position, the direction of (-TH4D^2, TH4DD): one atan2
+#: for the two (issue 25's "three directions from ATH2 or ATH4").  The zero vector's
+#: direction is 0 (NaN where an ingredient is not finite), as the numpy engine's.
+_ACC4_SHORTCUT = {
+    "phi4": (("phi4", "w4", "nz4"), ("TH4D", "TH4DD", "c4"), (), """
+w4 = TH4D * TH4D
+phi4 = _direction(-w4, TH4DD)
+nz4 = (w4 + TH4DD + c4) * 0.0
+"""),
+    "DAB": (("DAB",), ("ATH4", "phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),),
+            "DAB = _acc_direction(ATH4, TURN_B, phi4, R4, w4, TH4DD, nz4)"),
+    "DAG4": (("DAG4",), ("ATH4", "phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),),
+             "DAG4 = _acc_direction(ATH4, TURN_G4, phi4, RG4, w4, TH4DD, nz4)"),
+}
+
 #: Inputs seeded per call (a scalar parameter, or a per-position array).
 _SEEDS = ("ATH2", "TH2D", "W2", "W3", "W4", "ZI3", "ZI4", "TEX", "TH2DD", "GX", "GY", "NLOADS")
 
@@ -808,8 +849,23 @@ SUPPORTED = tuple(sorted({n for st in _STEPS for n in st[0] if n[0].isupper()}
 def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str], shortcut: bool = False):
     """The steps ``wanted`` needs, in order, each with whether it is skipped (as
     registry._plan: skipped when one of its zero groups is all known zero); with
-    ``shortcut`` (TH2DD a constant), AA, AG2 and their directions by ``_ACC2_SHORTCUT``."""
-    provider = dict(_PROVIDER, **_ACC2_SHORTCUT) if shortcut else _PROVIDER
+    ``shortcut`` (TH2DD a constant), AA, AG2 and their directions by ``_ACC2_SHORTCUT``;
+    where ATH3 and ATH4 are computed anyway, GAMMA by ``_GAMMA_SHORTCUT`` and, when
+    both are wanted, DAB and DAG4 by ``_ACC4_SHORTCUT``."""
+    first = _plan_with(wanted, zero_seeds, dict(_PROVIDER, **_ACC2_SHORTCUT) if shortcut
+                       else _PROVIDER)
+    done = {n for st, skipped in first if not skipped for n in st[0]}
+    if "ATH4" not in done:
+        return first
+    provider = dict(_PROVIDER, **_ACC2_SHORTCUT) if shortcut else dict(_PROVIDER)
+    provider.update(_GAMMA_SHORTCUT)
+    if "DAB" in done and "DAG4" in done:
+        provider.update(_ACC4_SHORTCUT)
+    return _plan_with(wanted, zero_seeds, provider)
+
+
+def _plan_with(wanted: tuple[str, ...], zero_seeds: frozenset[str], provider: dict):
+    """_plan with the steps ``provider`` names."""
     known: dict[str, bool] = {n: n in zero_seeds for n in _SEEDS}
     order: list[tuple[Any, bool]] = []
 
@@ -839,7 +895,7 @@ def _plan(wanted: tuple[str, ...], zero_seeds: frozenset[str], shortcut: bool = 
 _PARAMS = ("R1", "R2", "R3", "R4", "RG2", "RG3", "RG4", "W2", "W3", "W4", "ZI2", "ZI3", "ZI4",
            "ADEL2", "ADEL4", "TH2D", "GW", "GX", "GY", "R1s", "R2s", "R3s", "R4s", "TOL",
            "R3R4M", "R3R4P", "HALF_R3", "KK", "BRANCH_SIGN", "CA2", "SA2", "CA3", "SA3",
-           "CA4", "SA4", "STREAM")
+           "CA4", "SA4", "STREAM", "TURN_B", "TURN_G4")
 
 
 def _source(wanted, zero_seeds, scalars, arrays, loads):
@@ -1059,7 +1115,9 @@ def _mechanism_params(p: dict[str, float], gx: float, gy: float, branch: float) 
                 R3R4M=R3s * R3s - R4s * R4s, R3R4P=R3s * R3s + R4s * R4s,
                 HALF_R3=0.5 / R3s, KK=-0.5 / (R3s * R4s), BRANCH_SIGN=1.0 if branch == 1.0
                 else -1.0, CA2=rot[0], SA2=rot[1], CA3=rot[2], SA3=rot[3], CA4=rot[4],
-                SA4=rot[5], STREAM=0.0)
+                SA4=rot[5], STREAM=0.0, TURN_B=180.0 if float(p["R4"]) < 0.0 else 0.0,
+                TURN_G4=float(np.mod(float(np.mod(float(p["ADEL4"]), 360.0))
+                                     + (180.0 if float(p["RG4"]) < 0.0 else 0.0), 360.0)))
     return np.array([float(vals[n]) for n in _PARAMS])
 
 
