@@ -824,14 +824,19 @@ _GAMMA_SHORTCUT = {"GAMMA": (("GAMMA",), ("ATH3", "ATH4"), (), "GAMMA = _between
 #: Where the plan computes ATH4 anyway and wants both DAB and DAG4: AB = R4 e^{i ATH4}
 #: (-TH4D^2 + i TH4DD) and AG4 the same from RG4 and ATH4 + ADEL4, so both directions are
 #: ATH4 plus one angle PHI4 per position, the direction of (-TH4D^2, TH4DD): one atan2
-#: for the two (issue 25's "three directions from ATH2 or ATH4").  The zero vector's
-#: direction is 0 (NaN where an ingredient is not finite), as the numpy engine's.
+#: for the two (issue 25's "three directions from ATH2 or ATH4"), and their magnitudes
+#: R4 K4 and |RG4| K4, K4 = |-TH4D^2 + i TH4DD|: one sqrt for the two.  The zero
+#: vector's direction is 0 (NaN where an ingredient is not finite), as the numpy
+#: engine's.
 _ACC4_SHORTCUT = {
-    "phi4": (("phi4", "w4", "nz4"), ("TH4D", "TH4DD", "c4"), (), """
+    "phi4": (("phi4", "w4", "nz4", "k4"), ("TH4D", "TH4DD", "c4"), (), """
 w4 = TH4D * TH4D
 phi4 = _direction(-w4, TH4DD)
 nz4 = (w4 + TH4DD + c4) * 0.0
+k4 = _magnitude(w4, TH4DD)
 """),
+    "AB": (("AB",), ("phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),), "AB = R4 * k4"),
+    "AG4": (("AG4",), ("phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),), "AG4 = abs(RG4) * k4"),
     "DAB": (("DAB",), ("ATH4", "phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),),
             "DAB = _acc_direction(ATH4, TURN_B, phi4, R4, w4, TH4DD, nz4)"),
     "DAG4": (("DAG4",), ("ATH4", "phi4", "TH4D", "TH4DD"), (("TH4D", "TH4DD"),),
