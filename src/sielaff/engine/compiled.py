@@ -14,24 +14,38 @@ How it is fast (issue 25: why the first numba loop lost to gfortran)
       step the numpy engine skips is the literal 0.0 here too: the same NaN), which
       effects are arrays.  Only the steps those outputs need are in it.
     * Every transcendental is branch-free arithmetic LLVM can vectorise: sin and cos by
-      Cody-Waite reduction (pi/2 in three 33-bit parts) and Taylor polynomials,
-      atan2 by octant reduction, a shift to 0, tan(pi/8) or 1 and a Taylor polynomial
-      on |u| <= tan(pi/16), the mod-360 reduction by floor and two exact corrections.
-      No libm call, no fastmath (it would break NaN propagation).  The loop bound is
-      unsigned (no negative-index wraparound in every ``a[i]``), and LLVM's limit on
-      runtime alias checks (``-vectorize-memory-check-threshold``, 128) is raised only
-      while the kernel compiles (71 output arrays need about 2,600 checks, made once a
-      call).
-    * The arithmetic of each step is the numpy step's, in the same order (numba does not
-      contract to FMA without fastmath), so the two paths differ only by the
-      transcendentals, and where TH2DD is a constant, by AA and AG2 taken as turning
-      with the crank (``_ACC2_SHORTCUT``: magnitude R2 K, direction ATH2 + a constant;
-      no atan2 or sqrt per position).
+      Cody-Waite reduction (pi/2 in three 33-bit parts) and polynomials of 7 and 6
+      terms on |r| <= pi/4, atan2 by octant reduction, a shift to 0, tan(pi/8) or 1 and
+      a polynomial of 8 terms on |u| <= tan(pi/16) (Chebyshev fits, within 1e-17 of the
+      functions: ``benchmarks/fit_transcendentals.py`` makes them and prints their
+      error), each evaluated by Horner's rule in fused multiply-adds (``llvm.fma``: one
+      rounding, the same result on every CPU); the mod-360 reduction by floor and two
+      exact corrections.  No libm call, no fastmath (it would break NaN propagation).
+      The loop bound is unsigned (no negative-index wraparound in every ``a[i]``), and
+      LLVM's limit on runtime alias checks (``-vectorize-memory-check-threshold``, 128)
+      is raised only while the kernel compiles.
+    * Fewer transcendentals: where TH2DD is a constant, AA and AG2 turn with the crank
+      (``_ACC2_SHORTCUT``: magnitude R2 K, direction ATH2 + a constant; no atan2 or sqrt
+      per position); where ATH3 and ATH4 are computed anyway, GAMMA is the angle between
+      them (``_GAMMA_SHORTCUT``), and AB and AG4 are R4 and RG4 e^{i ATH4} times one
+      complex number per position (``_ACC4_SHORTCUT``: one atan2 and one sqrt for the
+      two magnitudes and two directions).  VA, VG2, VB and VG4 take their directions
+      from ATH2 and ATH4 (``_ROTATING``), as the numpy engine does.
+    * The loop fills a (wanted, BLOCK) scratch table that stays in the cache and copies
+      each row out (71 output streams at once defeat the hardware's prefetch).  When the
+      outputs are larger than a cache (``STREAM_BYTES``) the copy writes each whole
+      64-byte line by non-temporal stores (``_put``): the line goes to memory without
+      first being read, which plain stores of a line not in the cache must do.
+    * Otherwise the arithmetic of each step is the numpy step's, in the same order
+      (numba does not contract to FMA without fastmath), so the two paths differ only by
+      the transcendentals and the shortcuts above.
 
 Error bound (stated and tested in tests/test_compiled.py, against the numpy engine):
-    sin, cos and atan2 here are within about 1 ulp of the correctly rounded value, as
-    numpy's are, so each output differs from the numpy engine's by roundoff carried
-    through the same formulas: at most ``ERROR_BOUND`` (1e-13) times that output's
+    sin and cos here are within 1 ulp of the correctly rounded value (for |x| <= 4 pi;
+    the kernel takes them of angles in [0, 2 pi); 2 ulp up to 2^20), atan2 within 2 ulp
+    (tests/test_compiled_transcendentals.py, against mpmath), as near as numpy's, and the
+    shortcuts only round differently, so each output differs from the numpy engine's by
+    roundoff carried through the same formulas: at most ``ERROR_BOUND`` (1e-13) times that output's
     scale, the largest finite magnitude over the call of the outputs of its kind
     (velocities, accelerations, forces, rates, angular accelerations, torques; at least
     R2 |TH2D| for velocities, TH2D^2 + |TH2DD| for angular accelerations, ...; 360 for
