@@ -943,8 +943,12 @@ def _source(wanted, zero_seeds, scalars, arrays, loads):
     body = _inline(body, _helper_asts(), [0])
     # as analysis._analyze_numpy: an output that depends on the position is NaN where the
     # loop cannot close, a skipped step's 0.0 too (when the position was solved at all)
+    # (x - 0.0 is x exactly, -0.0 too, and x - NaN is NaN: one select a position and a
+    # subtraction an output, on the adders, instead of a select an output)
     solved = any(st[0][0] == "c3" and not skipped for st, skipped in order)
-    body += [f"sc[{j}, i] = _select(assembled, {name}, math.nan)"
+    if solved:
+        body.append("NOT_ASSEMBLED = _select(assembled, 0.0, math.nan)")
+    body += [f"sc[{j}, i] = {name} - NOT_ASSEMBLED"
              if solved and name not in _SEEDS and FOURBAR.needs_assembly(name)
              else f"sc[{j}, i] = {name}" for j, name in enumerate(wanted)]
     args = ", ".join(["th", "P", "S", "sc"] + [f"xin_{j}" for j in range(len(arrays))]
