@@ -77,7 +77,7 @@ def _numba_helpers():
     ns["math"] = math
     ns["np"] = np
     (ns["_select"], ns["_floor"], _, _, _, ns["_fma"]) = C._intrinsics()
-    for f in (C._sincos, C._atan2):
+    for f in (C._sincos, C._half_turn, C._atan2):
         exec(inspect.getsource(f), ns)  # noqa: S102
         ns[f.__name__] = numba.njit(ns[f.__name__])
 

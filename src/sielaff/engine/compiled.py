@@ -150,6 +150,7 @@ _ATAN8_HI, _ATAN8_LO = 0.39269908169872414, 3.060132146563891e-18
 _PI4_HI, _PI4_LO = 0.7853981633974483, 3.061616997868383e-17
 _PI2_HI, _PI2_LO = 1.5707963267948966, 6.123233995736766e-17
 _PI_HI, _PI_LO = 3.141592653589793, 1.2246467991473532e-16
+_TWO_PI_HI, _TWO_PI_LO = 2.0 * _PI_HI, 2.0 * _PI_LO
 
 # the polynomials' coefficients, lowest first (benchmarks/fit_transcendentals.py prints
 # them and the error of each polynomial: Chebyshev fits in 200-bit arithmetic, rounded)
@@ -351,7 +352,13 @@ def _sincos(x):
 
 
 def _atan2(y, x):
-    """atan2(y, x) in radians, within about 1 ulp; (0, 0) gives 0 (the callers decide)."""
+    """atan2(y, x) in radians, within 2 ulp; (0, 0) gives 0 (the callers decide)."""
+    a = _half_turn(y, x)
+    return math.copysign(a, y)
+
+
+def _half_turn(y, x):
+    """atan2(|y|, x) in radians, in [0, pi]: 0 for (+-0, +-0)."""
     ax = abs(x)
     ay = abs(y)
     sw = ay > ax
@@ -376,8 +383,7 @@ def _atan2(y, x):
                   _A1), w, _A0)
     a = a_hi + (a_lo + _fma(u * w, p, u))
     a = _select(sw, _PI2_HI - (a - _PI2_LO), a)
-    a = _select(x < 0.0, _PI_HI - (a - _PI_LO), a)
-    return math.copysign(a, y)
+    return _select(x < 0.0, _PI_HI - (a - _PI_LO), a)
 
 
 def _link_angle(s, c):
@@ -388,13 +394,12 @@ def _link_angle(s, c):
 
 
 def _direction(x, y):
-    """A vector's direction in degrees, in [0, 360); 0 for the zero vector."""
-    d = _atan2(y, x)
-    d = d * DEGREES
-    d = _select(d < 0.0, d + 360.0, d)
-    d = _select(d >= 360.0, 0.0, d)
-    d = _select((x == 0.0) & (y == 0.0), 0.0, d)
-    return d + 0.0
+    """A vector's direction in degrees, in [0, 360); 0 for the zero vector (whose
+    half turn is 0: -0.0 < 0 is false)."""
+    a = _half_turn(y, x)
+    a = _select(y < 0.0, _TWO_PI_HI - (a - _TWO_PI_LO), a)
+    d = a * DEGREES
+    return _select(d >= 360.0, 0.0, d)
 
 
 def _magnitude(x, y):
@@ -405,7 +410,7 @@ def _magnitude(x, y):
 
 def _gamma(s34, c34):
     """The transmission angle in degrees, [0, 180] on both branches."""
-    g = _atan2(abs(s34), c34)
+    g = _half_turn(s34, c34)
     return g * DEGREES
 
 
@@ -456,8 +461,8 @@ def _acc_direction(line, turn, phi, r, w2, a, nz):
     return d + 0.0
 
 
-_HELPERS = (_between, _acc_direction, _turned, _mod360, _sincos, _atan2, _link_angle,
-            _direction, _magnitude, _rot_direction, _gamma, _crank)
+_HELPERS = (_between, _acc_direction, _turned, _mod360, _sincos, _atan2, _half_turn,
+            _link_angle, _direction, _magnitude, _rot_direction, _gamma, _crank)
 _HELPER_ASTS: dict[str, ast.FunctionDef] = {}
 
 
