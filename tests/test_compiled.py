@@ -349,7 +349,8 @@ def test_gamma_and_zero_vectors():
         got, _ = C.compiled_analyze(_p(EXAMPLE), th, branch=branch, wanted=RESULTS)
         assert np.all((got["GAMMA"] >= 0.0) & (got["GAMMA"] <= 180.0))
     m = EXAMPLE.replace(TH2D=0.0, W3=0.0, ZI3=0.0)
-    got, _ = C.compiled_analyze(_p(m), th, th2dd=50.0, wanted=RESULTS)
+    # the outputs it reads only: a kernel of all RESULTS with TH2DD takes a minute to compile
+    got, _ = C.compiled_analyze(_p(m), th, th2dd=50.0, wanted=("VG3X", "VG3Y", "DVG3"))
     zero = (got["VG3X"] == 0.0) & (got["VG3Y"] == 0.0)
     assert zero.all() and np.all(got["DVG3"] == 0.0)
 
