@@ -43,10 +43,10 @@ How it is fast (issue 25: why the first numba loop lost to gfortran)
 Error bound (stated and tested in tests/test_compiled.py, against the numpy engine):
     sin and cos here are within 1 ulp of the correctly rounded value (for |x| <= 4 pi;
     the kernel takes them of angles in [0, 2 pi); 2 ulp up to 2^20), atan2 within 2 ulp
-    (tests/test_compiled_transcendentals.py, against mpmath), as near as numpy's, and the
-    shortcuts only round differently, so each output differs from the numpy engine's by
-    roundoff carried through the same formulas: at most ``ERROR_BOUND`` (1e-13) times that output's
-    scale, the largest finite magnitude over the call of the outputs of its kind
+    (tests/test_compiled_transcendentals.py, against mpmath), and the shortcuts only
+    round differently, so each output differs from the numpy engine's by roundoff
+    carried through the same formulas: at most ``ERROR_BOUND`` (1e-13) times that
+    output's scale, the largest finite magnitude over the call of the outputs of its kind
     (velocities, accelerations, forces, rates, angular accelerations, torques; at least
     R2 |TH2D| for velocities, TH2D^2 + |TH2DD| for angular accelerations, ...; 360 for
     angles and directions, compared on the circle; a direction also within ERROR_BOUND
