@@ -403,6 +403,35 @@ def test_out_arrays_are_written_in_place(wanted):
         assert np.array_equal(two[n], ref[n]), n
 
 
+@pytest.mark.parametrize("offset", [0, 1, 3, 7, "unaligned"])
+def test_streaming_stores_write_what_plain_stores_write(monkeypatch, offset):
+    """Outputs larger than STREAM_BYTES are written by non-temporal stores of whole
+    64-byte lines (plain stores at either end): lowered here so that small arrays take
+    that path, at every offset from a line (and 8-byte unaligned ones, which do not),
+    over lengths that leave partial blocks and lines, one thread and two."""
+    th = np.linspace(0.0, 360.0, 2 * C.BLOCK + 77)
+    ref, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=SAMPLE)
+    monkeypatch.setattr(C, "STREAM_BYTES", 0)
+    n = th.size
+    if offset == "unaligned":  # a float64 view one byte into its buffer
+        bufs = [bytearray(8 * n + 1) for _ in SAMPLE]
+        out = {k: np.frombuffer(b, dtype=np.float64, count=n, offset=1)
+               for k, b in zip(SAMPLE, bufs, strict=True)}
+    else:  # ``offset`` elements past a 64-byte line
+        out = {}
+        for k in SAMPLE:
+            buf = np.full(n + 16, -1.0)
+            start = (-buf.ctypes.data % 64) // 8 + offset
+            out[k] = buf[start:start + n]
+            assert (out[k].ctypes.data % 64) // 8 == offset
+    assert C._streams(n, list(out.values())) == (offset != "unaligned")
+    for threads in (1, 2):
+        got, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=SAMPLE, out=out, threads=threads)
+        for k in SAMPLE:
+            assert got[k] is out[k] and np.array_equal(got[k], ref[k], equal_nan=True), k
+            out[k][:] = -1.0
+
+
 def test_the_old_interface_still_works():
     th = np.linspace(0.0, 360.0, 24).reshape(4, 6)
     out = {name: np.empty((4, 6)) for name in ("TORQ", "SHAK")}

@@ -1163,6 +1163,12 @@ def _per_position(name: str, v: Any, n: int):
     return a
 
 
+def _streams(n: int, outs: list[np.ndarray]) -> bool:
+    """Whether the kernel writes ``outs`` (n positions each) by streaming stores: when
+    they are larger than a cache (``STREAM_BYTES``) and each element 8-byte aligned."""
+    return n * len(outs) * 8 >= STREAM_BYTES and all(o.flags.aligned for o in outs)
+
+
 def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
                      th2dd: Any = 0.0, gx: float = 0.0, gy: float = 0.0, loads: Any = (),
                      branch: float = 1.0, wanted: tuple[str, ...] = (),
@@ -1310,9 +1316,7 @@ def compiled_analyze(p: dict[str, float], ath2: np.ndarray, *, tex: Any = 0.0,
     if not isinstance(threads, int) or threads < 1:
         raise ValueError(f"threads = {threads!r}: 1 or more")
     outs = list(result.values())
-    # outputs larger than a cache are written by streaming stores (see _put)
-    P[_PARAMS.index("STREAM")] = float(n * len(outs) * 8 >= STREAM_BYTES
-                                       and all(o.flags.aligned for o in outs))
+    P[_PARAMS.index("STREAM")] = float(_streams(n, outs))
     if threads == 1 or n < 2 * BLOCK * threads:
         bad = kernel(th, P, S, _scratch(len(wanted)), *xs, *outs) if n else 0
         return result, int(bad)
