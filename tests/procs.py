@@ -32,7 +32,8 @@ If the zygote cannot start, dies, or is not single-threaded when asked to fork,
 :func:`run` falls back to ``subprocess.run`` and counts it in :data:`STATS` (and warns
 once per worker with :class:`ZygoteFallback`), so a test never depends on the zygote for
 its verdict and an always-used fallback shows.  ``SIELAFF_TEST_ZYGOTE=0`` turns the
-zygote off.  Each worker's zygotes end when the worker exits (atexit): no process or
+zygote off; ``SIELAFF_TEST_ZYGOTE_STATS=1`` prints :data:`STATS` as each worker exits.
+Each worker's zygotes end when the worker exits (atexit): no process or
 file is left behind.
 """
 
@@ -150,6 +151,8 @@ def shutdown() -> None:
         if z is not None:
             z.close()
     _ZYGOTES.clear()
+    if os.environ.get("SIELAFF_TEST_ZYGOTE_STATS") and STATS:
+        print(f"procs (pid {os.getpid()}): {dict(STATS)}", file=sys.stderr)
 
 
 def zygote_pids() -> list[int]:
