@@ -155,6 +155,13 @@ def shutdown() -> None:
         print(f"procs (pid {os.getpid()}): {dict(STATS)}", file=sys.stderr)
 
 
+def release(env: dict) -> None:
+    """End the zygote that serves ``env`` (the next request starts another)."""
+    z = _ZYGOTES.pop(startup_key(env), None)
+    if z is not None:
+        z.close()
+
+
 def zygote_pids() -> list[int]:
     """The pids of this worker's running zygotes."""
     return [z.pid for z in _ZYGOTES.values() if z is not None]
@@ -199,6 +206,7 @@ def run(argv, *, cwd=None, env: dict | None = None, stdin=None, input=None,  # n
     z = None if os.environ.get("SIELAFF_TEST_ZYGOTE") == "0" else _zygote(env)
     if z is None:
         STATS["fallback: off" if os.environ.get("SIELAFF_TEST_ZYGOTE") == "0"
+              else "fallback: its zygote died or did not start" if startup_key(env) in _ZYGOTES
               else "fallback: no zygote for this start-up environment"] += 1
     else:
         try:
@@ -211,9 +219,10 @@ def run(argv, *, cwd=None, env: dict | None = None, stdin=None, input=None,  # n
         except (OSError, EOFError, pickle.PickleError, ConnectionError) as exc:
             STATS["fallback: zygote died"] += 1
             _fallback_warning(f"the zygote died: {exc!r}")
-            _ZYGOTES[startup_key(env)] = None
-            z.proc.kill()
-            z.close()
+            _drop(env, z)
+        except BaseException:  # Ctrl-C mid-request: its answer would reach the next one
+            _drop(env, z)
+            raise
     if result is None:
         result = _plain(argv, cwd, env, stdin, input, rlimit_as, timeout, module)
     else:
@@ -221,6 +230,13 @@ def run(argv, *, cwd=None, env: dict | None = None, stdin=None, input=None,  # n
     if text:
         result.stdout, result.stderr = _decode(result.stdout), _decode(result.stderr)
     return result
+
+
+def _drop(env: dict, z: _Zygote) -> None:
+    """This zygote serves no more requests (later ones run as subprocesses)."""
+    _ZYGOTES[startup_key(env)] = None
+    z.proc.kill()
+    z.close()
 
 
 def _decode(data: bytes) -> str:

@@ -159,10 +159,35 @@ def test_python_warnings_exit_codes_and_uncaught_exceptions():
 def test_a_python_warning_from_a_command_under_pythonwarnings(tmp_path):
     """Another start-up environment (PYTHONWARNINGS) gets its own zygote, started with it."""
     env = dict(os.environ, PYTHONWARNINGS="error")
-    forked, plain, _ = probe("numpy", env=env)
-    assert forked["filters"] == plain["filters"]
-    assert any(f.startswith("('error'") for f in forked["filters"])
-    assert len(procs.zygote_pids()) >= 2
+    try:
+        forked, plain, _ = probe("numpy", env=env)
+        assert forked["filters"] == plain["filters"]
+        assert any(f.startswith("('error'") for f in forked["filters"])
+        assert len(procs.zygote_pids()) >= 2
+    finally:
+        procs.release(env)
+
+
+def test_a_dead_zygote_is_a_counted_fallback(monkeypatch):
+    """A zygote of its own (another start-up environment), killed: the command still runs,
+    as a subprocess, and the fallback is counted and warned about."""
+    monkeypatch.setattr(procs, "MAX_ZYGOTES", 99)
+    env = dict(os.environ, LC_PROCS_TEST="1")
+    first = procs.run(["check", EXAMPLE], env=env, text=True)
+    assert first.forked
+    zygote = procs._ZYGOTES[procs.startup_key(env)]
+    zygote.proc.kill()
+    zygote.proc.wait()
+    died = procs.STATS["fallback: zygote died"]
+    with pytest.warns(procs.ZygoteFallback, match="the zygote died"):
+        second = procs.run(["check", EXAMPLE], env=env, text=True)
+    assert not second.forked and procs.STATS["fallback: zygote died"] == died + 1
+    assert (second.returncode, second.stdout, second.stderr) == (
+        first.returncode, first.stdout, first.stderr)
+    later = procs.STATS["fallback: its zygote died or did not start"]
+    assert not procs.run(["help"], env=env).forked
+    assert procs.STATS["fallback: its zygote died or did not start"] == later + 1
+    procs.release(env)
 
 
 def test_memory_limit_is_applied():
