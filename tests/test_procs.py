@@ -86,7 +86,7 @@ CASES = {
     "a usage error (argparse, status 2)": lambda tmp: (["run"], {}),
     "help": lambda tmp: (["help", "exit"], {}),
     "a relative path in another cwd": lambda tmp: (["check", "example.dat"], {"cwd": DECKS}),
-    "SIELAFF_ variable read at call time": lambda tmp: (
+    "an environment of its own (SIELAFF_KERNEL_DIR)": lambda tmp: (
         ["table", DECKS / "example.toml"],
         {"env": {**os.environ, "SIELAFF_KERNEL_DIR": str(tmp / "k")}}),
 }
