@@ -266,6 +266,7 @@ def test_bench_writes_nothing_without_o(tmp_path, monkeypatch, capsys):
     from sielaff.cli import main
 
     monkeypatch.setattr(bench, "STEPS", (30.0, 10.0))
+    monkeypatch.setattr(bench, "MODELS", ("float64",))  # where it writes, not what: one model
     monkeypatch.chdir(tmp_path)
     assert main(["bench", "--quick"]) == 0
     assert list(tmp_path.iterdir()) == []

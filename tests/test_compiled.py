@@ -174,6 +174,18 @@ def _worst(got: dict, ref: dict) -> float:
     return worst
 
 
+#: The outputs of the default tier's kernels: every kind of output (angles, rates, angular
+#: accelerations; velocities, accelerations and forces as magnitudes, components and
+#: directions; SHAK, TORQ, SHAKM), 28 of the 71.  A kernel of all 71 takes about 35 s to
+#: compile (numba's front end on the inlined loop), this one about 12 s; the slow tier
+#: runs the same tests on all of RESULTS (``WANTED``).
+SAMPLE = ("ATH3", "GAMMA", "TH3D", "TH4D", "TH3DD", "TH4DD", "VA", "DVA", "VG3", "DVG3", "VB",
+          "VBX", "AA", "DAA", "AG3", "AG3Y", "AB", "DAB", "FA32", "DFA32", "FB34", "FOA", "FOB",
+          "DFOB", "SHAK", "DSHAK", "TORQ", "SHAKM")
+WANTED = [pytest.param(SAMPLE, id="sample"),
+          pytest.param(RESULTS, id="all", marks=pytest.mark.slow)]
+
+
 # (no NaN here: today's numpy engine then skips the mod-360 reduction of the whole array,
 # issue 20 defect 5; test_nan_angle_... checks the kernel's per-element reduction)
 ANGLES = np.concatenate([np.linspace(-30.0, 390.0, 601), [1e6 + 0.37, -725.5]])
@@ -196,12 +208,13 @@ def test_kind_examples_are_of_their_kind():
         assert linkage_class(m).kind == kind
 
 
+@pytest.mark.parametrize("wanted", WANTED)
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 @pytest.mark.parametrize("kind", sorted(KIND_EXAMPLES))
-def test_each_kind_each_branch_1966_scene(kind, branch):
+def test_each_kind_each_branch_1966_scene(kind, branch, wanted):
     r = KIND_EXAMPLES[kind]
     m = EXAMPLE.replace(R1=r[0], R2=r[1], R3=r[2], R4=r[3])
-    got, ref, bad, ref_bad = _run(m, ANGLES, branch=branch)
+    got, ref, bad, ref_bad = _run(m, ANGLES, wanted, branch=branch)
     assert _worst(got, ref) <= 1.0
     assert bad == ref_bad  # the same positions close (fix (3) moves only boundary ones)
 
@@ -248,17 +261,18 @@ def _mech(r, w, pl, th2d):
                            ADEL4=pl[2], RG2=pl[3], RG3=pl[4], RG4=pl[5], TH2D=th2d)
 
 
+@pytest.mark.parametrize("wanted", WANTED)
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 @pytest.mark.parametrize("kind", DRAWN_KINDS)
 @settings(max_examples=6, derandomize=True, deadline=None)
 @given(data=st.data(), w=MASSES, pl=PLACES, th2d=SPEED)
-def test_drawn_linkages_1966_scene(kind, branch, data, w, pl, th2d):
+def test_drawn_linkages_1966_scene(kind, branch, wanted, data, w, pl, th2d):
     """Drawn linkages of each kind (parametrised, and checked to be of it) on each branch,
     in the 1966 scene: within the stated bound of the numpy engine."""
     m = _mech(data.draw(_lengths(kind)), w, pl, th2d)
     assert linkage_class(m).kind == kind
     event(f"{kind}, {branch}")
-    got, ref, bad, ref_bad = _run(m, np.linspace(-30.0, 390.0, 211), branch=branch)
+    got, ref, bad, ref_bad = _run(m, np.linspace(-30.0, 390.0, 211), wanted, branch=branch)
     assert _worst(got, ref) <= 1.0
     assert bad == ref_bad
 
@@ -325,7 +339,7 @@ def test_the_bound_is_not_vacuous():
     """The kernel is not the numpy engine: on the report's example they differ (the
     transcendentals), by less than the bound but not by nothing."""
     th = np.linspace(0.0, 360.0, 3601)
-    got, ref, _, _ = _run(EXAMPLE, th)
+    got, ref, _, _ = _run(EXAMPLE, th, SAMPLE)
     w = _worst(got, ref)
     assert 0.0 < w <= 0.5
     assert any(not np.array_equal(got[n], ref[n]) for n in ("ATH3", "DVG3", "GAMMA"))
@@ -336,7 +350,7 @@ def test_assembly_tolerance_in_lengths():
     close (|O4 - A| = 2.0028 > R3 + R4): NaN and counted, by the assembly test itself."""
     m = EXAMPLE.replace(R1=1000.0, R2=999.0, R3=1.0, R4=1.0)
     th = np.array([0.099487, 0.0, 0.05])
-    got, bad = C.compiled_analyze(_p(m), th, wanted=RESULTS)
+    got, bad = C.compiled_analyze(_p(m), th, wanted=SAMPLE)
     assert bad == 1
     assert math.isnan(got["GAMMA"][0]) and math.isnan(got["TORQ"][0])
     assert np.isfinite(got["ATH3"][1:]).all()
@@ -346,7 +360,7 @@ def test_gamma_and_zero_vectors():
     """Fixes 1 and 2: GAMMA in [0, 180] on both branches; a zero vector points at 0."""
     th = np.linspace(0.0, 360.0, 721)
     for branch in (1.0, -1.0):
-        got, _ = C.compiled_analyze(_p(EXAMPLE), th, branch=branch, wanted=RESULTS)
+        got, _ = C.compiled_analyze(_p(EXAMPLE), th, branch=branch, wanted=SAMPLE)
         assert np.all((got["GAMMA"] >= 0.0) & (got["GAMMA"] <= 180.0))
     m = EXAMPLE.replace(TH2D=0.0, W3=0.0, ZI3=0.0)
     # the outputs it reads only: a kernel of all RESULTS with TH2DD takes a minute to compile
@@ -355,35 +369,37 @@ def test_gamma_and_zero_vectors():
     assert zero.all() and np.all(got["DVG3"] == 0.0)
 
 
-def test_nan_angle_changes_no_other_element_and_turns_are_exact():
+@pytest.mark.parametrize("wanted", WANTED)
+def test_nan_angle_changes_no_other_element_and_turns_are_exact(wanted):
     th = np.linspace(-720.0, 1080.0, 1001)
-    a, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=RESULTS)
+    a, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=wanted)
     th2 = th.copy()
     th2[5] = np.nan
-    b, bad = C.compiled_analyze(_p(EXAMPLE), th2, wanted=RESULTS)
+    b, bad = C.compiled_analyze(_p(EXAMPLE), th2, wanted=wanted)
     assert bad == 1
-    for name in RESULTS:
+    for name in wanted:
         assert np.isnan(b[name][5]) or name == "ATH2" or name == "TEX" or name in (
             "VG2", "VA"), name
         keep = np.arange(th.size) != 5
         assert np.array_equal(a[name][keep], b[name][keep]), name
     # ATH2 + 360 k: the same position, bit for bit (the reduction is exact)
-    c, _ = C.compiled_analyze(_p(EXAMPLE), np.mod(th, 360.0), wanted=RESULTS)
-    for name in RESULTS:
+    c, _ = C.compiled_analyze(_p(EXAMPLE), np.mod(th, 360.0), wanted=wanted)
+    for name in wanted:
         if name not in ("ATH2", "DVA", "DVG2"):  # these take the line from ATH2 as given
             assert np.array_equal(a[name], c[name], equal_nan=True), name
 
 
-def test_out_arrays_are_written_in_place():
+@pytest.mark.parametrize("wanted", WANTED)
+def test_out_arrays_are_written_in_place(wanted):
     th = np.linspace(0.0, 360.0, 1000)
-    out = {name: np.full(th.size, -1.0) for name in RESULTS}
-    got, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=RESULTS, out=out)
-    assert all(got[n] is out[n] for n in RESULTS)
-    ref, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=RESULTS)
-    for n in RESULTS:
+    out = {name: np.full(th.size, -1.0) for name in wanted}
+    got, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=wanted, out=out)
+    assert all(got[n] is out[n] for n in wanted)
+    ref, _ = C.compiled_analyze(_p(EXAMPLE), th, wanted=wanted)
+    for n in wanted:
         assert np.array_equal(out[n], ref[n])
-    two, bad = C.compiled_analyze(_p(EXAMPLE), th, wanted=RESULTS, threads=2)
-    for n in RESULTS:
+    two, bad = C.compiled_analyze(_p(EXAMPLE), th, wanted=wanted, threads=2)
+    for n in wanted:
         assert np.array_equal(two[n], ref[n]), n
 
 

@@ -1,7 +1,9 @@
 """``sielaff report``: one self-contained page, checked by a parser and in a real browser.
 
 Five pages are made once a session (the example deck, an SI spec, a double crank, the
-sweep spec and the synthesis spec) and every test reads them.  The browser test opens
+sweep spec and the synthesis spec) and every test reads them: the first two in the
+default tier, the other three (about 8 s of CPU a page) in the slow tier, each set in
+one process.  The browser test opens
 each in Debian's headless Chromium through Playwright (the ``browser`` extra; ``.ci/run``
 installs both), one browser for all, and skips, saying why, where either is missing.  It
 checks that the page loads with no console error, that no request leaves it, that every
@@ -79,6 +81,16 @@ def _cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
 #: The pages the tests read, each made once a session: (name, input, its suffix).
 PAGES = (("example", "example.dat"), ("si", "si.toml"), ("double", "double.dat"),
          ("sweep", "sweep.toml"), ("synth", "synth.toml"))
+#: The pages of the default tier; the others are made only for the slow tier's tests.
+DEFAULT_PAGES = ("example", "si")
+
+
+def _tiered(names):
+    """Each page a parameter, marked slow where its page is made for the slow tier."""
+    return [pytest.param(n, marks=() if n in DEFAULT_PAGES else pytest.mark.slow)
+            for n in names]
+
+
 #: The frames of the page's animation (report.py draws 24).
 FRAMES = 24
 
@@ -94,24 +106,41 @@ for src, out in zip(sys.argv[1::2], sys.argv[2::2]):
 """
 
 
-@pytest.fixture(scope="session")
-def pages(tmp_path_factory) -> dict[str, str]:
-    """The example deck, an SI spec, a double crank, the sweep spec and the synthesis
-    spec, each made into a page once a session, by the command's entry point; nothing
-    may reach stderr (no warning, no message)."""
+def _make_pages(tmp_path_factory, names) -> dict[str, str]:
+    """Pages of ``names`` (of the example deck, an SI spec, a double crank, the sweep
+    spec and the synthesis spec), made in one process by the command's entry point;
+    nothing may reach stderr (no warning, no message)."""
     d = tmp_path_factory.mktemp("report")
     (d / "si.toml").write_text(SI_SPEC)
     (d / "double.dat").write_text(DOUBLE_CRANK)
     sources = {"example": DECKS / "example.dat", "si": d / "si.toml",
                "double": d / "double.dat", "sweep": DECKS / "sweep.toml",
                "synth": DECKS / "synth.toml"}
-    out = {name: str(d / f"{name}.html") for name, _ in PAGES}
-    argv = [str(x) for name, _ in PAGES for x in (sources[name], out[name])]
+    out = {name: str(d / f"{name}.html") for name in names}
+    argv = [str(x) for name in names for x in (sources[name], out[name])]
     r = subprocess.run([sys.executable, "-c", MAKE_PAGES, *argv], capture_output=True,
                        text=True, timeout=900)
-    assert r.returncode == 0 and r.stdout.split() == ["0"] * len(PAGES), r.stdout + r.stderr
+    assert r.returncode == 0 and r.stdout.split() == ["0"] * len(names), r.stdout + r.stderr
     assert r.stderr == "", r.stderr
     return out
+
+
+@pytest.fixture(scope="session")
+def pages(tmp_path_factory) -> dict[str, str]:
+    """The default tier's pages: the example deck and the SI spec."""
+    return _make_pages(tmp_path_factory, DEFAULT_PAGES)
+
+
+@pytest.fixture(scope="session")
+def slow_pages(tmp_path_factory) -> dict[str, str]:
+    """The slow tier's pages: the double crank, the sweep spec, the synthesis spec."""
+    return _make_pages(tmp_path_factory,
+                       [n for n, _ in PAGES if n not in DEFAULT_PAGES])
+
+
+def _page(request, name: str) -> str:
+    """The page ``name``, from the fixture of its tier (the slow one made only if asked)."""
+    return request.getfixturevalue("pages" if name in DEFAULT_PAGES else "slow_pages")[name]
 
 
 class _Checker(html.parser.HTMLParser):
@@ -162,12 +191,12 @@ def _check(path: str) -> _Checker:
     return c
 
 
-@pytest.mark.parametrize("name", [n for n, _ in PAGES])
-def test_the_page_is_valid_html_and_self_contained(pages, name):
+@pytest.mark.parametrize("name", _tiered([n for n, _ in PAGES]))
+def test_the_page_is_valid_html_and_self_contained(request, name):
     import matplotlib.image
     from PIL import Image
 
-    c = _check(pages[name])
+    c = _check(_page(request, name))
     assert len(c.images) >= 2  # the linkage and its animation, or a ranking's two pictures
     gifs = 0
     for src in c.images:
@@ -209,8 +238,9 @@ def test_the_si_page_is_in_si(pages):
     assert " N m " in peaks and " N " in peaks and " in-lb " not in peaks and " lb " not in peaks
 
 
-def test_the_double_crank_page_names_its_kind(pages):
-    text = " ".join(" ".join(_check(pages["double"]).text).split())
+@pytest.mark.slow
+def test_the_double_crank_page_names_its_kind(slow_pages):
+    text = " ".join(" ".join(_check(slow_pages["double"]).text).split())
     assert "A double-crank" in text and "Peaks" in text
 
 
@@ -286,13 +316,13 @@ def browser():
         b.close()
 
 
-@pytest.mark.parametrize("name", [n for n, _ in PAGES])
-def test_the_page_in_a_browser(pages, browser, name, tmp_path):
+@pytest.mark.parametrize("name", _tiered([n for n, _ in PAGES]))
+def test_the_page_in_a_browser(request, browser, name, tmp_path):
     page = browser.new_page(viewport={"width": 1100, "height": 900})
     errors, requests = [], []
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     page.on("pageerror", lambda e: errors.append(str(e)))
-    url = "file://" + os.path.abspath(pages[name])
+    url = "file://" + os.path.abspath(_page(request, name))
     page.on("request", lambda r: requests.append(r.url)
             if not (r.url == url or r.url.startswith("data:")) else None)
     page.goto(url, wait_until="load")
@@ -315,13 +345,14 @@ def test_the_page_in_a_browser(pages, browser, name, tmp_path):
     assert dark > 200, "the title's text is not drawn where the h1 is"
 
 
-def test_a_sweep_spec_gets_its_pareto_front(pages):
+@pytest.mark.slow
+def test_a_sweep_spec_gets_its_pareto_front(slow_pages):
     """decks/sweep.toml: the page holds the sweep's Pareto front, checked against the
     front computed here from the sweep's own figures."""
     from sielaff.design.figures import figures
     from sielaff.tools.common import read_spec_deck
 
-    c = _check(pages["sweep"])
+    c = _check(slow_pages["sweep"])
     text = " ".join(" ".join(c.text).split())
     assert "The sweep" in text and "5,002 designs (61 x 41 x 2" in text
     assert "Pareto front of TORQ_RMS and SHAK_PEAK" in text
@@ -360,13 +391,14 @@ class _Table(html.parser.HTMLParser):
             self.cell.append(data)
 
 
-def test_a_synthesis_spec_gets_its_ranking(pages):
+@pytest.mark.slow
+def test_a_synthesis_spec_gets_its_ranking(slow_pages):
     """decks/synth.toml: the ranking table, best first, is the ranking computed here
     through the synthesis API (not the spec reader): the same candidates in the same
     order with the same figures, the units in the headers, the front marked."""
     from sielaff import Scene, synthesis
 
-    text = " ".join(" ".join(_check(pages["synth"]).text).split())
+    text = " ".join(" ".join(_check(slow_pages["synth"]).text).split())
     assert "A synthesis (crank_rocker) in in-lb-sec units" in text
     assert "32 candidates from 2 problems (0 without a solution): all crank-rockers" in text
     assert "The best candidates" in text and "[synthesis.crank_rocker]" in text  # the spec
@@ -377,7 +409,7 @@ def test_a_synthesis_spec_gets_its_ranking(pages):
     r = synthesis.rank(cands, scene=Scene(tex=-50.0), by=["TORQ_PEAK", "SHAK_PEAK"],
                        pareto=["TORQ_RMS", "GAMMA_MIN"])
     t = _Table()
-    with open(pages["synth"], encoding="utf-8") as f:
+    with open(slow_pages["synth"], encoding="utf-8") as f:
         t.feed(f.read())
     table = next(tb for tb in t.tables if tb[0][:2] == ["rank", "cand."])
     head, rows = table[0], table[1:]
