@@ -626,7 +626,7 @@ def _probe() -> None:
         "fds": sorted(int(x) for x in os.listdir("/proc/self/fd")),
         "stdin": sys.stdin.read() if "read" in sys.argv else None,
         "ppid": os.getppid(), "pid": os.getpid(),
-        "random": __import__("random").random(),
+        "random": __import__("random").random(), "hash": hash("sielaff"),
         "preferred": locale.getpreferredencoding(False),
     }))
     if "warn" in sys.argv:

@@ -121,6 +121,9 @@ def test_the_probe_sees_a_fresh_process():
     assert result.pid == forked["pid"]
     for key in ("pid", "ppid", "random"):
         assert forked.pop(key) != plain.pop(key), key
+    # the string hash seed is the zygote's, not the fresh one each process would draw
+    seeded = os.environ.get("PYTHONHASHSEED", "random") != "random"
+    assert (forked.pop("hash") == plain.pop("hash")) == seeded
     assert forked == plain
     assert forked["stdin"] == "some input\n" and forked["argv0_is_file"]
     # Python's own start-up ignores SIGPIPE; the fork has it so too
@@ -129,17 +132,19 @@ def test_the_probe_sees_a_fresh_process():
 
 def test_the_parent_is_the_zygote_and_each_request_forks():
     before = procs.STATS["forked"]
-    seen, randoms = set(), set()
+    seen, randoms, hashes = set(), set(), set()
     for _ in range(3):
         result = procs.run(["numpy"], module="procs", cwd=TESTS, text=True)
         assert result.returncode == 0 and result.forked, result.stderr
         info = json.loads(result.stdout)
         seen.add(info["pid"])
         randoms.add(info["random"])
+        hashes.add(info["hash"])
         assert info["ppid"] in procs.zygote_pids()
         assert info["threads"] == [1, 1]
     assert procs.STATS["forked"] == before + 3
     assert len(seen) == 3 and len(randoms) == 3  # new processes, reseeded
+    assert len(hashes) == 1  # the one difference kept: the zygote's string hash seed
 
 
 def test_the_zygote_is_single_threaded_and_loaded_everything():
