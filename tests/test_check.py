@@ -5,13 +5,12 @@ from __future__ import annotations
 import io
 import math
 import re
-import subprocess
-import sys
 from unittest import mock
 
 import numpy as np
 import pytest
 
+import procs
 from conftest import DECKS
 from sielaff.cli import main
 from sielaff.emulator.cards import parse_deck, read_deck
@@ -376,6 +375,7 @@ def test_failing_1966_arithmetic_exit_2():
 
 
 def test_check_help_shows_example():
-    out = subprocess.run([sys.executable, "-m", "sielaff", "check", "--help"],
-                         capture_output=True, text=True, check=True).stdout
+    r = procs.run(["check", "--help"], text=True)
+    assert r.returncode == 0
+    out = r.stdout
     assert "example:\n  sielaff check decks/example.dat" in out

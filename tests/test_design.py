@@ -6,14 +6,13 @@ LocalCluster)."""
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import procs
 import sielaff
 from sielaff.design import balance, bearings, counterweights, flywheel, flywheel_from_torque
 from sielaff.design.bearings import unloaded_arcs
@@ -149,8 +148,7 @@ def test_balance_merges_point_masses_exactly():
 @pytest.mark.pinned
 def test_balance_command_prints_the_price_and_writes_a_deck(tmp_path):
     out = tmp_path / "balanced.dat"
-    r = subprocess.run([sys.executable, "-m", "sielaff", "balance", "decks/example.dat",
-                        "-o", str(out)], cwd=ROOT, capture_output=True, text=True)
+    r = procs.run(["balance", "decks/example.dat", "-o", out], cwd=ROOT, text=True)
     assert r.returncode == 0 and r.stderr == ""
     text = r.stdout
     row = next(line for line in text.splitlines() if "peak shaking force" in line)
@@ -301,9 +299,8 @@ def test_sweep_command_csv_and_plot(tmp_path):
     spec.write_text(text)
     csv, png = tmp_path / "o" / "s.csv", tmp_path / "o" / "p.png"
     for workers in ("1", "2"):
-        r = subprocess.run([sys.executable, "-m", "sielaff", "sweep", str(spec), "-o", str(csv),
-                            "--plot", str(png), "--workers", workers], cwd=ROOT,
-                           capture_output=True, text=True)
+        r = procs.run(["sweep", spec, "-o", csv, "--plot", png, "--workers", workers],
+                      cwd=ROOT, text=True)
         assert r.returncode == 0, r.stderr
         assert r.stderr.startswith("sielaff sweep: 24 designs (24 with a full cycle)")
         lines = csv.read_text().splitlines()
@@ -322,15 +319,13 @@ def test_sweep_spec_errors_name_the_field(tmp_path):
     for bad, message in (("R4 = { from = 9.0, to = 15.0, n = 61 }", "[sweep.vary] R4"),
                          ("BALANCE = [0, 1]", "[sweep.vary] BALANCE")):
         spec.write_text(base.replace(bad, bad.replace("61", "0").replace("[0, 1]", "[2]")))
-        r = subprocess.run([sys.executable, "-m", "sielaff", "sweep", str(spec)], cwd=ROOT,
-                           capture_output=True, text=True)
+        r = procs.run(["sweep", spec], cwd=ROOT, text=True)
         assert r.returncode == 2 and message in r.stderr
         assert len(r.stderr.splitlines()) == 1 and "Traceback" not in r.stderr
 
 
 def test_check_prints_the_flywheel_and_bearings():
-    r = subprocess.run([sys.executable, "-m", "sielaff", "check", "decks/example.dat"],
-                       cwd=ROOT, capture_output=True, text=True)
+    r = procs.run(["check", "decks/example.dat"], cwd=ROOT, text=True)
     fw = flywheel(EXAMPLE)
     energy = next(line for line in r.stdout.splitlines() if "energy fluctuation" in line)
     assert float(energy.split()[-2]) == pytest.approx(float(fw.energy), rel=1e-3)

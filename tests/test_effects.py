@@ -348,19 +348,16 @@ def test_run_tex_is_the_reports_edit_and_agrees_with_the_engine(arith, rtol):
 
 
 def test_run_tex_on_the_command_line(tmp_path):
-    import subprocess
-    import sys
-
+    import procs
     from conftest import DECKS
 
-    run = [sys.executable, "-m", "sielaff", "run", str(DECKS / "example.dat")]
-    plain = subprocess.run(run, capture_output=True, text=True).stdout
-    zero = subprocess.run([*run, "--tex", "0"], capture_output=True, text=True).stdout
+    run = ["run", DECKS / "example.dat"]
+    plain = procs.run(run, text=True).stdout
+    zero = procs.run([*run, "--tex", "0"], text=True).stdout
     assert zero == plain
-    loaded = subprocess.run([*run, "--tex", "150", "--max-sheets", "2"], capture_output=True,
-                            text=True)
+    loaded = procs.run([*run, "--tex", "150", "--max-sheets", "2"], text=True)
     assert loaded.stdout.count("   .1500E 03") == 2
-    bad = subprocess.run([*run, "--tex", "1E120"], capture_output=True, text=True)
+    bad = procs.run([*run, "--tex", "1E120"], text=True)
     assert bad.returncode == 2 and "is not a torque in in-lb" in bad.stderr
 
 

@@ -329,17 +329,12 @@ _mutants = st.tuples(st.lists(_mutation, min_size=1, max_size=4),
 
 
 def _limited_run(src: Path, arith: str) -> subprocess.CompletedProcess:
-    import resource
+    import procs
 
-    def limit() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (FUZZ_MEMORY, FUZZ_MEMORY))
-
-    return subprocess.run([sys.executable, "-m", "sielaff", "run", "--program", str(src),
-                           str(ROOT / "decks" / "example.dat"), "--arith", arith,
-                           "-o", str(src.with_suffix(".asa"))],
-                          capture_output=True, text=True, timeout=FUZZ_SECONDS,
-                          preexec_fn=limit, check=False,
-                          env=dict(__import__("os").environ, PYTHONPATH=str(ROOT / "src")))
+    return procs.run(["run", "--program", src, ROOT / "decks" / "example.dat", "--arith", arith,
+                      "-o", src.with_suffix(".asa")], text=True, timeout=FUZZ_SECONDS,
+                     rlimit_as=FUZZ_MEMORY,
+                     env=dict(__import__("os").environ, PYTHONPATH=str(ROOT / "src")))
 
 
 def _fuzz_one(tmp_path_factory, mutations, arith) -> None:

@@ -4,12 +4,16 @@ of the missing-extra hint, the sweep's status line."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 
 from conftest import DECKS, ROOT
+from procs import run
 
-SIELAFF = [sys.executable, "-m", "sielaff"]
+
+def sielaff(*argv, timeout: float = 300):
+    """``python -m sielaff argv`` (forked from the worker's zygote: tests/procs.py)."""
+    return run(argv, timeout=timeout, text=True)
+
+
 PARAMETERS = "".join((DECKS / "example.dat").read_text().splitlines(keepends=True)[:6])
 
 
@@ -18,8 +22,7 @@ def test_past_thmax_by_roundoff_shows_the_digits_that_differ(tmp_path):
     roundoff; the quirk must not read "100.1 is past THMAX = 100.1"."""
     deck = tmp_path / "q.dat"
     deck.write_text(PARAMETERS + "     0.0     0.1   100.1\n")
-    r = subprocess.run([*SIELAFF, "run", deck, "-o", tmp_path / "q.asa"], capture_output=True,
-                       text=True, timeout=300)
+    r = sielaff("run", deck, "-o", tmp_path / "q.asa", timeout=300)
     assert r.returncode == 0, r.stderr
     line = next(x for x in r.stderr.splitlines() if "is past THMAX" in x)
     assert "THETA 2 = 100.10000000000001 is past THMAX = 100.1 (by roundoff" in line
@@ -27,8 +30,7 @@ def test_past_thmax_by_roundoff_shows_the_digits_that_differ(tmp_path):
     assert a != b
     # a sheet clearly past keeps the short form
     deck.write_text(PARAMETERS + "    10.0    10.0   360.0\n")
-    r = subprocess.run([*SIELAFF, "run", deck, "-o", tmp_path / "q.asa"], capture_output=True,
-                       text=True, timeout=300)
+    r = sielaff("run", deck, "-o", tmp_path / "q.asa", timeout=300)
     assert "THETA 2 = 370 is past THMAX = 360:" in r.stderr
 
 
@@ -45,30 +47,30 @@ def test_missing_extra_hints_agree():
 
 
 def test_sweep_status_says_where_it_ran(tmp_path):
-    r = subprocess.run([*SIELAFF, "sweep", DECKS / "si.toml", "--workers", "1", "-o",
-                        tmp_path / "s.csv"], capture_output=True, text=True, timeout=300)
+    r = sielaff("sweep", DECKS / "si.toml", "--workers", "1", "-o",
+                tmp_path / "s.csv", timeout=300)
     assert r.returncode == 0, r.stderr
     assert "in this process" in r.stderr and "on process" not in r.stderr
 
 
 def test_port_refuses_another_arithmetic(tmp_path):
-    r = subprocess.run([*SIELAFF, "run", DECKS / "example.dat", "--port", "--arith", "float32",
-                        "-o", tmp_path / "x.asa"], capture_output=True, text=True, timeout=300)
+    r = sielaff("run", DECKS / "example.dat", "--port", "--arith", "float32",
+                "-o", tmp_path / "x.asa", timeout=300)
     assert r.returncode == 2 and "--port is float64 only" in r.stderr
     assert not (tmp_path / "x.asa").exists()
 
 
 def test_plot_at_without_linkage_is_refused(tmp_path):
     for option in (["--at", "90"], ["--point", "3:4:0"]):
-        r = subprocess.run([*SIELAFF, "plot", DECKS / "example.dat", "-o", tmp_path / "p",
-                            *option], capture_output=True, text=True, timeout=300)
+        r = sielaff("plot", DECKS / "example.dat", "-o", tmp_path / "p",
+                    *option, timeout=300)
         assert r.returncode == 2 and "add --linkage" in r.stderr, r.stderr
         assert not (tmp_path / "p").exists() or not any((tmp_path / "p").iterdir())
 
 
 def test_plot_linkage_and_bearings_writes_both(tmp_path):
-    r = subprocess.run([*SIELAFF, "plot", DECKS / "example.dat", "-o", tmp_path / "p",
-                        "--linkage", "--bearings"], capture_output=True, text=True, timeout=600)
+    r = sielaff("plot", DECKS / "example.dat", "-o", tmp_path / "p",
+                "--linkage", "--bearings", timeout=600)
     assert r.returncode == 0, r.stderr
     names = sorted(p.name for p in (tmp_path / "p").iterdir())
     assert names == ["bearings.png", "linkage.png"]
@@ -80,9 +82,8 @@ def test_max_sheets_warns_on_the_fast_path_as_on_the_port(tmp_path):
     not (nothing was cut)."""
     for port in ([], ["--port"]):
         for n, warned in ((2, True), (36, True), (37, False)):
-            r = subprocess.run([*SIELAFF, "run", DECKS / "example.dat", "--max-sheets", str(n),
-                                *port, "-o", tmp_path / "x.asa"], capture_output=True,
-                               text=True, timeout=300)
+            r = sielaff("run", DECKS / "example.dat", "--max-sheets", str(n),
+                        *port, "-o", tmp_path / "x.asa", timeout=300)
             assert r.returncode == 0, r.stderr
             text = f"stopped after {n} sheets (--max-sheets)"
             assert (text in r.stderr) == warned, (port, n, r.stderr)
@@ -93,10 +94,9 @@ def test_diff_of_two_real_listings_ends_in_the_differences(tmp_path):
     context holds; diff lists them and exits 1 (listings differ), no traceback."""
     a, b = tmp_path / "a.asa", tmp_path / "b.asa"
     for path, extra in ((a, []), (b, ["--tex", "150"])):
-        r = subprocess.run([*SIELAFF, "run", *extra, DECKS / "example.dat", "-o", path],
-                           capture_output=True, text=True, timeout=300)
+        r = sielaff("run", *extra, DECKS / "example.dat", "-o", path, timeout=300)
         assert r.returncode == 0, r.stderr
-    r = subprocess.run([*SIELAFF, "diff", b, a], capture_output=True, text=True, timeout=300)
+    r = sielaff("diff", b, a, timeout=300)
     assert r.returncode == 1, r.stderr
     assert "Traceback" not in r.stderr and "InvalidOperation" not in r.stdout + r.stderr
     assert "units in the last digit" in r.stdout
@@ -119,17 +119,14 @@ def test_check_json_and_output_file(tmp_path):
     import json
 
     for kind, turns in (("triple-rocker", False), ("double-crank", True)):
-        r = subprocess.run([*SIELAFF, "check", DECKS / f"{kind}.toml", "--format", "json"],
-                           capture_output=True, text=True, timeout=300)
+        r = sielaff("check", DECKS / f"{kind}.toml", "--format", "json", timeout=300)
         assert r.returncode == 0, r.stderr
         data = json.loads(r.stdout)
         assert data["kind"] == kind and data["turns_fully"] is turns and data["status"] == 0
         assert len(data["toggles_deg"]) == (0 if turns else 2)
         assert any("Verdict: usable" in line for line in data["report"])
     out = tmp_path / "c.txt"
-    r = subprocess.run([*SIELAFF, "check", DECKS / "example.dat", "-o", out],
-                       capture_output=True, text=True, timeout=300)
+    r = sielaff("check", DECKS / "example.dat", "-o", out, timeout=300)
     assert r.returncode == 0 and r.stdout == "" and "Verdict: usable" in out.read_text()
-    r = subprocess.run([*SIELAFF, "check", DECKS / "example.dat", "-o", "-"],
-                       capture_output=True, text=True, timeout=300)
+    r = sielaff("check", DECKS / "example.dat", "-o", "-", timeout=300)
     assert r.stdout == out.read_text()

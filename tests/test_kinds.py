@@ -5,23 +5,21 @@ balance and sweep on the open and the crossed branch."""
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import pytest
 
 from conftest import DECKS
+from procs import run
 from sielaff.emulator.cards import read_deck
 from sielaff.engine.classify import linkage_class
 
-SIELAFF = [sys.executable, "-m", "sielaff"]
 KINDS = ("double-crank", "double-rocker", "triple-rocker")
 BRANCHES = ("open", "crossed")
 
 
 def sielaff(*argv, cwd=None):
-    return subprocess.run([*SIELAFF, *map(str, argv)], capture_output=True, text=True,
-                          timeout=600, cwd=cwd)
+    """``python -m sielaff argv`` (forked from the worker's zygote: tests/procs.py)."""
+    return run(argv, cwd=cwd, timeout=600, text=True)
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -9,6 +9,7 @@ import sys
 import numpy as np
 import pytest
 
+import procs
 from conftest import DECKS
 from sielaff import engine
 from sielaff.emulator.cards import parse_deck, read_deck
@@ -223,8 +224,7 @@ def check_pngs(paths, width: int, height: int) -> None:
 
 def plot_subprocess(*argv: str) -> tuple[int, str, str]:
     """The command in a child process: drawing grows a process by ~100 MB, keep it there."""
-    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", *argv],
-                       capture_output=True, text=True)
+    r = procs.run(["plot", *argv], text=True)
     return r.returncode, r.stdout, r.stderr
 
 
@@ -271,8 +271,8 @@ def test_plot_without_matplotlib(tmp_path):
 
 
 def test_plot_help_shows_example():
-    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", "--help"],
-                       capture_output=True, text=True, check=True)
+    r = procs.run(["plot", "--help"], text=True)
+    assert r.returncode == 0
     assert "example:\n  sielaff plot decks/example.dat -o plots" in r.stdout
 
 
@@ -324,8 +324,7 @@ def test_overlap_detector_detects():
 
 
 def test_help_names_every_figure_file():
-    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", "--help"],
-                       capture_output=True, text=True)
+    r = procs.run(["plot", "--help"], text=True)
     text = " ".join(r.stdout.split())
     deck = read_deck(DECKS / "example.dat")
     for only in (None, "kinematics"):
@@ -373,18 +372,16 @@ def test_linkage_of_a_triple_rocker_marks_its_toggles():
 @pytest.mark.slow
 def test_plot_linkage_and_animate_write_the_files(tmp_path):
     out = tmp_path / "lk"
-    r = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(DECKS / "example.dat"),
-                        "--linkage", "--at", "40,130", "--animate", "-o", str(out)],
-                       capture_output=True, text=True)
+    r = procs.run(["plot", DECKS / "example.dat", "--linkage", "--at", "40,130", "--animate",
+                   "-o", out], text=True)
     assert r.returncode == 0 and r.stderr == "", r.stderr
     assert sorted(p.name for p in out.iterdir()) == ["linkage.gif", "linkage.png"]
     from PIL import Image
 
     with Image.open(out / "linkage.gif") as im:
         assert im.n_frames == 36
-    bad = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(DECKS / "example.dat"),
-                          "--linkage", "--point", "5:1:0", "-o", str(out)],
-                         capture_output=True, text=True)
+    bad = procs.run(["plot", DECKS / "example.dat", "--linkage", "--point", "5:1:0",
+                     "-o", out], text=True)
     assert bad.returncode == 2 and "LINK 2, 3 or 4" in bad.stderr
 
 
@@ -394,8 +391,7 @@ def test_plot_linkage_draws_any_four_bar(tmp_path):
     lines[2] = "    10.0     4.0     5.0     4.0"  # a triple-rocker
     deck = tmp_path / "tri.dat"
     deck.write_text("\n".join(lines) + "\n")
-    ok = subprocess.run([sys.executable, "-m", "sielaff", "plot", str(deck), "--linkage",
-                         "-o", str(tmp_path / "a")], capture_output=True, text=True)
+    ok = procs.run(["plot", deck, "--linkage", "-o", tmp_path / "a"], text=True)
     assert ok.returncode == 0 and (tmp_path / "a" / "linkage.png").stat().st_size > 10_000
     # the report's figures of a triple rocker: test_plot_not_crank_rocker (slow tier), and
     # of a double crank test_kinds' plot of every kind (its default-tier pair)

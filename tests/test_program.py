@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import io
 import math
-import subprocess
-import sys
 
 import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+import procs
 from conftest import DECKS
 from sielaff.emulator.arithmetic import Float64
 from sielaff.emulator.cards import parse_deck
@@ -140,8 +139,7 @@ def test_not_a_crank_rocker_prints_the_1966_message():
 def test_cli_not_a_crank_rocker_exits_3(tmp_path):
     path = tmp_path / "bad.dat"
     path.write_text(_deck(r2=14.0))
-    proc = subprocess.run([sys.executable, "-m", "sielaff", "run", str(path)],
-                          capture_output=True, text=True)
+    proc = procs.run(["run", path], text=True)
     assert proc.returncode == 3
     assert proc.stdout == " THIS IS NOT A CRANK ROCKER MECHANISM\n"
     assert proc.stderr.count("\n") == 1
@@ -150,14 +148,12 @@ def test_cli_not_a_crank_rocker_exits_3(tmp_path):
 
 def test_cli_run_example_and_diff_against_golden(tmp_path):
     out = tmp_path / "example.asa"
-    proc = subprocess.run([sys.executable, "-m", "sielaff", "run", str(DECKS / "example.dat"),
-                           "-o", str(out)], capture_output=True, text=True)
+    proc = procs.run(["run", DECKS / "example.dat", "-o", out], text=True)
     assert proc.returncode == 0
     assert "Case II" in proc.stderr and "370" in proc.stderr
     assert out.read_text().count("\n1\n") == 37
     golden = DECKS.parent / "golden" / "figure11.asa"
-    proc = subprocess.run([sys.executable, "-m", "sielaff", "diff", str(out), str(golden)],
-                          capture_output=True, text=True)
+    proc = procs.run(["diff", out, golden], text=True)
     assert proc.returncode == 1
     assert proc.stdout.splitlines() == [
         "THETA 2 = 50.0: VA (VEL A): got .2000E 03, golden .1999E 03 (+1 unit in the last digit)",
@@ -166,14 +162,12 @@ def test_cli_run_example_and_diff_against_golden(tmp_path):
         "THETA 2 = 50.0: DAA (ACC A direction): got 230.0, golden 229.9 "
         "(+1 unit in the last digit)",
     ]
-    same = subprocess.run([sys.executable, "-m", "sielaff", "diff", str(golden), str(golden)],
-                          capture_output=True, text=True)
+    same = procs.run(["diff", golden, golden], text=True)
     assert same.returncode == 0 and same.stdout == ""
 
 
 def test_render_gives_form_feeds(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "sielaff", "run", str(DECKS / "example.dat"),
-                           "--render"], capture_output=True, text=True)
+    proc = procs.run(["run", DECKS / "example.dat", "--render"], text=True)
     assert proc.returncode == 0
     assert proc.stdout.count("\f") == 37
     assert "\n" + " " * 17 + "THETA 2     THETA 3     THETA 4\n" in proc.stdout

@@ -154,15 +154,13 @@ def test_refuses_non_candidates():
 # -- sielaff synth (subprocesses) ----------------------------------------------------
 
 import csv as _csv  # noqa: E402
-import subprocess  # noqa: E402
-import sys  # noqa: E402
 
+import procs  # noqa: E402
 from conftest import ROOT  # noqa: E402
 
 
 def synth(*args):
-    return subprocess.run([sys.executable, "-m", "sielaff", "synth", *args], cwd=ROOT,
-                          capture_output=True, text=True, timeout=600)
+    return procs.run(["synth", *args], cwd=ROOT, text=True, timeout=600)
 
 
 def test_synth_command_csv_and_best_specs(tmp_path):
@@ -208,9 +206,8 @@ def test_synth_writes_decks_where_they_can_hold_it(tmp_path):
         deck = sielaff.read_deck(str(tmp_path / "b" / f"best-{k}.dat"))
         # rounded to what an 8-column field holds: lengths within 5E-6 in
         assert deck.mechanism.R1 == pytest.approx(float(rows[k - 1]["R1[in]"]), abs=5e-6)
-    run = subprocess.run([sys.executable, "-m", "sielaff", "run",
-                          str(tmp_path / "b" / "best-1.dat")], cwd=ROOT, capture_output=True,
-                         text=True, timeout=300)
+    run = procs.run(["run", tmp_path / "b" / "best-1.dat"], cwd=ROOT, text=True,
+                    timeout=300)
     assert run.returncode == 0, run.stderr
     assert "THIS IS NOT A CRANK ROCKER" not in run.stdout and len(run.stdout) > 1000
 

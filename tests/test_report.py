@@ -24,6 +24,7 @@ import sys
 import numpy as np
 import pytest
 
+import procs
 from conftest import DECKS
 
 pytest.importorskip("matplotlib")
@@ -74,8 +75,7 @@ DOUBLE_CRANK = """\
 
 
 def _cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "sielaff", *args], capture_output=True,
-                          text=True, timeout=900, cwd=cwd)
+    return procs.run(args, text=True, timeout=900, cwd=cwd)
 
 
 #: The pages the tests read, each made once a session: (name, input, its suffix).

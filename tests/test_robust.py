@@ -30,6 +30,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from conftest import DECKS
+from procs import run
 from sielaff.cli import main
 from sielaff.emulator.printer import Format, Unprintable, _strict_value, edit_e, edit_f, fast_editor
 from sielaff.tools.common import range_problem
@@ -194,20 +195,19 @@ def test_debug_shows_the_traceback_in_process(tmp_path):
 
 def test_subprocess_one_line_without_traceback_and_with_debug(tmp_path):
     path = write_deck(tmp_path, cards((3, "    12.0  1.2.3     16.0    12.0")))
-    proc = subprocess.run([*SIELAFF, "run", path], capture_output=True, text=True, timeout=60)
+    proc = run(["run", path], text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stdout == ""
     assert proc.stderr == (f'{path}: card 3, columns 9-16: "  1.2.3 ": '
                            "not a number (two decimal points)\n")
-    proc = subprocess.run([*SIELAFF, "--debug", "run", path], capture_output=True, text=True,
-                          timeout=60)
+    proc = run(["--debug", "run", path], text=True, timeout=60)
     assert proc.returncode == 1
     assert "Traceback" in proc.stderr and "DeckError" in proc.stderr
 
 
 def test_subprocess_binary_deck(tmp_path):
     path = write_deck(tmp_path, b"\x00\x01\x02garbage")
-    proc = subprocess.run([*SIELAFF, "run", path], capture_output=True, text=True, timeout=60)
+    proc = run(["run", path], text=True, timeout=60)
     assert (proc.returncode, proc.stdout) == (2, "")
     assert proc.stderr == f"{path}: not a text deck (binary data at byte 0)\n"
 

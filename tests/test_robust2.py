@@ -18,6 +18,7 @@ from unittest import mock
 import pytest
 
 from conftest import DECKS, GOLDEN
+from procs import run
 from sielaff.mechanism import EXAMPLE as EXAMPLE_MECHANISM
 from test_robust import SIELAFF, _peak_rss_kb, cards, cli, split_stderr, write_deck
 
@@ -149,8 +150,7 @@ def test_04_timeout_leaves_no_temporary_file(tmp_path):
 @pytest.mark.slow
 def test_05_dev_zero_and_a_sparse_file_fail_at_once():
     start = time.monotonic()
-    proc = subprocess.run([*SIELAFF, "run", "/dev/zero"], capture_output=True, text=True,
-                          timeout=60)
+    proc = run(["run", "/dev/zero"], text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr == "/dev/zero: not a text deck (binary data at byte 0)\n"
     assert time.monotonic() - start < 30
@@ -285,8 +285,8 @@ def test_08_the_port_says_which_test_failed_in_its_arithmetic():
 def test_09_no_python_warning_on_stderr(tmp_path, deck_cards, extra):
     deck = write_deck(tmp_path, cards(*deck_cards))
     for command in (["run", *extra], ["check"], ["table"]):
-        proc = subprocess.run([*SIELAFF, *command, deck], capture_output=True, text=True,
-                              env=dict(os.environ, PYTHONWARNINGS="default"))
+        proc = run([*command, deck], text=True,
+                   env=dict(os.environ, PYTHONWARNINGS="default"))
         for line in proc.stderr.splitlines():
             assert line.startswith(("sielaff: ", deck)), (command, line)
         assert "Warning" not in proc.stderr and ".py:" not in proc.stderr, command

@@ -21,6 +21,7 @@ from pathlib import Path
 import pytest
 
 from conftest import DECKS, GOLDEN
+from procs import run
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCE = (DECKS / "sielaff.f").read_text()
@@ -37,8 +38,13 @@ def _limit() -> None:
 def limited(*args: str, stdin=None, timeout: float = 120, shell: str | None = None
             ) -> tuple[int, str, str, float]:
     """(status, stdout, stderr, CPU seconds of the children) of ``sielaff args`` (or of the
-    ``shell`` pipeline) under the memory limit and a timeout."""
+    ``shell`` pipeline) under the memory limit and a timeout.  ``sielaff args`` is forked
+    from the worker's zygote (tests/procs.py): its CPU is the command's, without Python's
+    start-up; a pipeline is a real ``bash -c``."""
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    if not shell:  # forked from the worker's zygote (tests/procs.py): the command's CPU
+        proc = run(args, input=stdin, timeout=timeout, env=env, rlimit_as=MEMORY, text=True)
+        return proc.returncode, proc.stdout, proc.stderr, proc.cpu
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     command = ["bash", "-c", shell] if shell else [*SIELAFF, *args]
     proc = subprocess.run(command, input=stdin, capture_output=True, text=True,

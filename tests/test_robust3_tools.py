@@ -24,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from conftest import DECKS
+from procs import run
 
 SIELAFF = [sys.executable, "-m", "sielaff"]
 #: Address space a child may use (numpy, matplotlib and dask need about 0.5 GiB of it).
@@ -41,11 +42,16 @@ def _limits() -> None:
 
 def sielaff(*argv: str, timeout: float = 120, env: dict | None = None,
             limit=_limits) -> tuple[int, str, str, float]:
-    """(status, stdout, stderr, seconds) of ``sielaff argv`` under the memory limit."""
+    """(status, stdout, stderr, seconds) of ``sielaff argv`` under the memory limit:
+    forked from the worker's zygote (tests/procs.py; seconds are the command's, without
+    Python's start-up), or a plain subprocess for another ``limit``."""
+    env = {**os.environ, **(env or {})}
+    if limit is _limits:
+        proc = run(argv, timeout=timeout, env=env, rlimit_as=MEMORY, text=True)
+        return proc.returncode, proc.stdout, proc.stderr, proc.wall
     start = time.monotonic()
     proc = subprocess.run([*SIELAFF, *map(str, argv)], capture_output=True, text=True,
-                          timeout=timeout, preexec_fn=limit,
-                          env={**os.environ, **(env or {})})
+                          timeout=timeout, preexec_fn=limit, env=env)
     return proc.returncode, proc.stdout, proc.stderr, time.monotonic() - start
 
 

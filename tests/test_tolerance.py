@@ -129,15 +129,13 @@ def test_refuses_a_nominal_that_does_not_turn():
 
 # -- sielaff tolerance (subprocesses) -------------------------------------------------
 
-import subprocess  # noqa: E402
-import sys  # noqa: E402
 
+import procs  # noqa: E402
 from conftest import ROOT  # noqa: E402
 
 
 def run_tolerance(*args):
-    return subprocess.run([sys.executable, "-m", "sielaff", "tolerance", *args], cwd=ROOT,
-                          capture_output=True, text=True, timeout=600)
+    return procs.run(["tolerance", *args], cwd=ROOT, text=True, timeout=600)
 
 
 def small_spec(tmp_path, edit=None):

@@ -24,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from conftest import DECKS, GOLDEN
+from procs import run
 from sielaff.cli import COMMANDS, main
 
 SIELAFF = [sys.executable, "-m", "sielaff"]
@@ -246,6 +247,10 @@ def test_leading_blank_lines_are_replayed_to_the_deck_reader(monkeypatch):
 
 # -- bounded reading (real file descriptors) ---------------------------------------------
 def run_sielaff(*argv, stdin=None, timeout=120, preexec_fn=None):
+    """``sielaff argv`` forked from the worker's zygote (tests/procs.py), or a plain
+    subprocess where ``preexec_fn`` must run in it."""
+    if preexec_fn is None:
+        return run(argv, stdin=stdin, timeout=timeout)
     return subprocess.run([*SIELAFF, *map(str, argv)], stdin=stdin, capture_output=True,
                           timeout=timeout, preexec_fn=preexec_fn)
 
