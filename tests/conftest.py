@@ -74,11 +74,11 @@ def pytest_configure(config):
 #: collection order, so these go first and the short ones fill in at the end: the
 #: workers finish together instead of one waiting on a long file handed out last.
 #: Only the order changes; a file not listed keeps its place after these.
-LONGEST_FIRST = ("test_kinds.py", "test_robust3_tools.py", "test_robust3_interp.py",
-                 "test_report.py", "test_compiled.py", "test_plots.py",
-                 "test_issue22_small.py", "test_effects.py", "test_issue22_defects.py",
-                 "test_design.py", "test_classify.py", "test_units.py", "test_ibm1410.py",
-                 "test_tolerance.py", "test_accuracy.py", "test_synthesis.py")
+LONGEST_FIRST = ("test_compiled.py", "test_ibm1410.py", "test_report.py", "test_simulate.py",
+                 "test_fortran.py", "test_procs.py", "test_synthesis.py", "test_units.py",
+                 "test_robust3_tools.py", "test_unix.py", "test_scene.py", "test_punch.py",
+                 "test_effects.py", "test_classify.py", "test_simulate_friction.py",
+                 "test_robust3_interp.py", "test_issue22_defects.py", "test_robust.py")
 
 
 def pytest_collection_modifyitems(session, config, items):

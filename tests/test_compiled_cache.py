@@ -101,6 +101,8 @@ def test_cached_module_written_whole_or_not_at_all(tmp_path):
     sys.modules.pop("sielaff_kernel_test_ok", None)
 
 
+@pytest.mark.slow  # compiles a kernel in a fresh process (the default tier checks the
+# same choice in process: test_a_cache_that_cannot_be_written_is_no_cache)
 @pytest.mark.skipif(not C.available(), reason="numba is not installed (the fast extra)")
 def test_the_backend_runs_with_a_home_it_cannot_write(tmp_path):
     """A read-only home (here: under a plain file) does not fail the backend: the kernel

@@ -400,7 +400,13 @@ LIBS = ([IBM1410(K, variant=v) for K in (8, 16) for v in VARIANTS]
         + [IBM1410(8, variant=v) for v in ("taylor,cos=shift", "sine,final=round2")])
 
 
-@pytest.mark.parametrize("A", LIBS, ids=lambda A: f"{A.digits}-{A.variant}")
+def _tiered(libs):
+    """Each library a parameter: the 8-digit ones (the 1410's) in the default tier, the
+    others (what more digits would give) in the slow tier."""
+    return [pytest.param(A, marks=() if A.digits == 8 else pytest.mark.slow) for A in libs]
+
+
+@pytest.mark.parametrize("A", _tiered(LIBS), ids=lambda A: f"{A.digits}-{A.variant}")
 @settings(max_examples=60, deadline=None)
 @given(x=st.floats(min_value=-20.0, max_value=20.0))
 @example(x=0.0)
@@ -414,7 +420,7 @@ def test_sin_cos_accuracy(A, x):
     assert err(A.COS(x), mpmath.cos(mp(x))) <= trig_bound(A, x)
 
 
-@pytest.mark.parametrize("A", LIBS, ids=lambda A: f"{A.digits}-{A.variant}")
+@pytest.mark.parametrize("A", _tiered(LIBS), ids=lambda A: f"{A.digits}-{A.variant}")
 @settings(max_examples=60, deadline=None)
 @given(x=st.one_of(st.floats(min_value=-3.0, max_value=3.0),
                    st.floats(min_value=-1e30, max_value=1e30)))
@@ -428,7 +434,7 @@ def test_atan_accuracy(A, x):
     assert err(A.ATAN(x), mpmath.atan(mp(x))) <= atan_bound(A)
 
 
-@pytest.mark.parametrize("A", LIBS, ids=lambda A: f"{A.digits}-{A.variant}")
+@pytest.mark.parametrize("A", _tiered(LIBS), ids=lambda A: f"{A.digits}-{A.variant}")
 @settings(max_examples=60, deadline=None)
 @given(t=st.data())
 def test_sqrt_accuracy(A, t):
@@ -648,10 +654,10 @@ class OperatorLibrary:
             y = y1
 
 
-@pytest.mark.parametrize("A", [IBM1410(K, variant=v) for K in (8, 12) for v in VARIANTS]
-                         + [IBM1410(8, variant=v) for v in ("taylor,cos=shift",
-                                                            "taylor,reduce=exact",
-                                                            "sine,final=round2")],
+@pytest.mark.parametrize("A", _tiered([IBM1410(K, variant=v) for K in (8, 12) for v in VARIANTS]
+                                 + [IBM1410(8, variant=v) for v in ("taylor,cos=shift",
+                                                                    "taylor,reduce=exact",
+                                                                    "sine,final=round2")]),
                          ids=lambda A: f"{A.digits}-{A.variant}")
 @settings(max_examples=40, deadline=None)
 @given(x=st.one_of(st.floats(min_value=-50.0, max_value=50.0),

@@ -161,6 +161,7 @@ def test_python_warnings_exit_codes_and_uncaught_exceptions():
     assert forked.returncode == 1 and "ValueError: a probe error" in forked.stderr
 
 
+@pytest.mark.slow  # the harness's failure paths: a zygote killed, a timeout
 def test_a_python_warning_from_a_command_under_pythonwarnings(tmp_path):
     """Another start-up environment (PYTHONWARNINGS) gets its own zygote, started with it."""
     env = dict(os.environ, PYTHONWARNINGS="error")
@@ -173,6 +174,7 @@ def test_a_python_warning_from_a_command_under_pythonwarnings(tmp_path):
         procs.release(env)
 
 
+@pytest.mark.slow  # the harness's failure paths: a zygote killed, a timeout
 def test_a_dead_zygote_is_a_counted_fallback(monkeypatch):
     """A zygote of its own (another start-up environment), killed: the command still runs,
     as a subprocess, and the fallback is counted and warned about."""
@@ -202,6 +204,7 @@ def test_memory_limit_is_applied():
     assert result.forked and result.returncode != 0  # numpy's arrays cannot be had
 
 
+@pytest.mark.slow  # the harness's failure paths: a zygote killed, a timeout
 def test_a_timeout_kills_the_command():
     r, w = os.pipe()  # stdin that never ends: the command waits for its deck
     try:
@@ -222,6 +225,7 @@ def test_cpu_and_wall_are_the_commands():
     assert usage.ru_utime >= 0
 
 
+@pytest.mark.slow  # the harness's failure paths: a zygote killed, a timeout
 def test_the_fallback_is_counted_and_gives_the_same(monkeypatch):
     monkeypatch.setenv("SIELAFF_TEST_ZYGOTE", "0")
     before = procs.STATS["fallback: off"]
@@ -231,6 +235,7 @@ def test_the_fallback_is_counted_and_gives_the_same(monkeypatch):
     assert procs.run(["check", EXAMPLE], text=True).stdout == result.stdout
 
 
+@pytest.mark.slow  # the harness's failure paths: a zygote killed, a timeout
 def test_no_zygote_outlives_its_worker():
     """A separate interpreter uses procs and exits: its zygote is gone after it."""
     code = ("import sys; sys.path[:0] = [sys.argv[1]]; import procs; "
