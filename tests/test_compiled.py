@@ -8,7 +8,7 @@ least the natural one: R2 TH2D for velocities, R2 (TH2D^2 + |TH2DD|) acceleratio
 times its kind's scale over its vector's magnitude, in radians), at positions at least
 CONDITION_LIMIT (|sin GAMMA| >= 0.25) from a toggle, and within that times
 (0.25 / sin GAMMA) ** CONDITION_POWER[kind] nearer (2 angles, 3 rates and velocities,
-4 accelerations, 5 forces and torques).  NaN and infinities exactly where the numpy
+4 accelerations, 6 forces and torques).  NaN and infinities exactly where the numpy
 engine has them, but at a toggle to within roundoff (|sin GAMMA| < 1e-6), where either
 engine's rates are infinite or NaN by the luck of rounding.
 

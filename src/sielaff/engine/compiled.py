@@ -57,9 +57,11 @@ Error bound (stated and tested in tests/test_compiled.py, against the numpy engi
     H by eps / sin^2 GAMMA relatively, and each derivative divides by sin GAMMA once
     more), so neither path is more right than the other; there the bound is multiplied
     by ``(0.25 / sin GAMMA) ** CONDITION_POWER[kind]``: 2 for angles, 3 for rates and
-    velocities, 4 for angular accelerations and accelerations, 5 for forces and torques
-    (a drawn rocker-crank whose crank swings only near its toggles, |sin GAMMA| = 0.16,
-    showed forces 1.7 times past the cube).  NaN and infinities exactly where the numpy engine has
+    velocities, 4 for angular accelerations and accelerations, 6 for forces and torques
+    (calibrated, not derived: a drawn rocker-crank whose crank swings only near its
+    toggles, |sin GAMMA| = 0.16, showed forces 1.7 times past the cube, and a drawn
+    double rocker, R = 1, 5, 0.25, 5.375, at |sin GAMMA| = 0.19 on both branches, 1.03
+    times past the fifth power).  NaN and infinities exactly where the numpy engine has
     them, except at a toggle to within roundoff (|sin GAMMA| < 1e-6), where either
     engine's rates are infinite or NaN by the luck of rounding (0 / 0, inf - inf).
     Not covered: linkages near a change point (s + l = p + q within 3% of the Grashof
@@ -128,7 +130,7 @@ CONDITION_LIMIT = 0.25
 #: Near a toggle the bound is multiplied by (CONDITION_LIMIT / |sin GAMMA|) ** power, the
 #: power by the output's kind: each derivative divides by sin GAMMA once more (see above).
 CONDITION_POWER = {"angle": 2, "rate": 3, "velocity": 3, "angular acceleration": 4,
-                   "acceleration": 4, "force": 5, "torque": 5}
+                   "acceleration": 4, "force": 6, "torque": 6}
 
 EPS = float(np.finfo(float).eps)
 DEGREES = 180.0 / math.pi  # what np.degrees multiplies by
