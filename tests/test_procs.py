@@ -92,7 +92,15 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("case", CASES)
+#: The cases the default tier compares (each one also runs a fresh interpreter); the
+#: others run in the slow tier.
+DEFAULT_CASES = ("run the example deck", "a bad deck's one line and status 2",
+                 "the same with --debug: a traceback", "a warning (--max-sheets)", "stdin -",
+                 "memory-limited run")
+
+
+@pytest.mark.parametrize("case", [
+    pytest.param(c, marks=() if c in DEFAULT_CASES else pytest.mark.slow) for c in CASES])
 def test_a_command_forked_is_the_command_run(tmp_path, case):
     argv, kw = CASES[case](tmp_path)
     try:
