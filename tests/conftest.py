@@ -50,17 +50,15 @@ def pytest_configure(config):
     """SIELAFF_ULP_NUDGE=+1/-1: run as if on a CPU whose libm differs by an ulp.
 
     Where PYTHONDONTWRITEBYTECODE is set (this machine kind sets it), every command a test
-    runs as a child process would compile sielaff's modules from source again: 0.2-0.3 s
-    a process, a third of a plain ``sielaff check``.  The children (and the xdist workers,
-    started after this hook) write their bytecode to a cache outside the tree instead, so
-    ``git status`` stays clean; Python checks each file against its source's mtime."""
+    runs as a child process, and each xdist worker, would compile sielaff's modules and
+    the test files from source again: 0.2-0.3 s a process, a third of a plain ``sielaff
+    check``.  The children and the workers (started after this hook) keep their bytecode
+    as Python does by default, in ``__pycache__`` beside each source (ignored by git, so
+    ``git status`` stays clean).  Not PYTHONPYCACHEPREFIX: with a prefix Python would also
+    pass over the installed libraries' bytecode and compile numpy and matplotlib again."""
     import os
-    import tempfile
 
-    if os.environ.get("PYTHONDONTWRITEBYTECODE") and not os.environ.get("PYTHONPYCACHEPREFIX"):
-        del os.environ["PYTHONDONTWRITEBYTECODE"]
-        os.environ["PYTHONPYCACHEPREFIX"] = os.path.join(
-            tempfile.gettempdir(), f"sielaff-test-pycache-{os.getuid()}")
+    os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
     nudge = os.environ.get("SIELAFF_ULP_NUDGE")
     if nudge:
