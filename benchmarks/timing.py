@@ -79,9 +79,25 @@ def machine() -> str:
         gfortran = "gfortran not installed"
     import numpy
 
-    return (f"{cpu}, {os.cpu_count()} cores (shared); {platform.system()} "
+    return (f"{cpu}, {os.cpu_count()} cores (shared), {simd()}; {platform.system()} "
             f"{platform.release()}; Python {platform.python_version()}, numpy "
             f"{numpy.__version__}; {gfortran}")
+
+
+def simd() -> str:
+    """The widest vector instructions numpy found on this CPU (as ``numpy.show_runtime``):
+    numpy's SVML loops (float64 arctan2, sin and cos among them) are built only for
+    AVX-512 (``NPY_HAVE_AVX512_SKX`` in numpy's ``loops_umath_fp`` dispatch source), so
+    the engine's ratios to gfortran differ between machines by this above all."""
+    import numpy
+
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__ as feats
+    except ImportError:  # pragma: no cover - another numpy layout
+        return "SIMD unknown"
+    level = ("AVX-512 (X86_V4)" if feats.get("AVX512_SKX") else
+             "AVX2, no AVX-512 (X86_V3)" if feats.get("AVX2") else "no AVX2")
+    return f"numpy {numpy.__version__} sees {level}"
 
 
 def table(series: list[Series], unit_label: str = "") -> list[str]:
