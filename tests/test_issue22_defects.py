@@ -419,6 +419,7 @@ def _bench_result() -> dict:
                        "port_s": 1e-3 / d if d >= 0.1 else None} for d in deltas]}
 
 
+@pytest.mark.slow  # draws bench's figure with constrained layout: seconds
 def test_bench_figure_labels_do_not_overlap():
     """Every text of the figure, measured by the renderer, clear of every other (before:
     float32's label was drawn over ibm1410:8's)."""

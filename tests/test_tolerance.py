@@ -91,6 +91,7 @@ def test_dask_threads_reproducible():
     assert a.mean == b.mean and a.p95 == b.p95
 
 
+@pytest.mark.slow  # a cluster trial (threads stay in the default tier)
 def test_local_cluster_reproducible():
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
