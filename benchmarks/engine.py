@@ -15,8 +15,8 @@ configuration, CPU time and wall time, median and range; one process, one core):
   would print (and a sheet counter), printed once at the end: the program
   computes everything it prints, but does no formatted output.  The deck is
   the report's example with one range card (0, 0.00036, 359.9996): 10^6
-  positions.  CPU time of the child process (start-up and card reading are
-  well under a millisecond).
+  positions.  CPU time of the child process (its start-up and card reading, measured
+  on a deck of one position, are in the section).
 * **the engine**: all results with fresh arrays, and into reused arrays
   (``analyze(..., out=...)``); kinematics only; positions and rates; the crossed
   branch; the effects (crank acceleration, gravity, two loads).
@@ -129,6 +129,27 @@ WHAT = {
 }
 
 
+def gfortran_startup(exe, deck_text: str, runs: int) -> float:
+    """The reference's CPU time on a deck of one position [s], median of ``runs``: what
+    its start-up and card reading cost, measured beside the rest."""
+    import resource
+
+    def _cpu() -> float:  # the children's alone: not this process's spawning of them
+        kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return kids.ru_utime + kids.ru_stime
+
+    one = "\n".join(deck_text.splitlines()[:6] + ["     0.0     1.0     0.0"]) + "\n"
+    times = []
+    with tempfile.TemporaryDirectory(prefix="sielaff-bench-one-") as work:
+        Path(work, "fort.1").write_text(one)
+        for _ in range(runs):
+            before = _cpu()
+            subprocess.run([str(exe)], cwd=work, capture_output=True, stdin=subprocess.DEVNULL,
+                           check=True)
+            times.append(_cpu() - before)
+    return statistics.median(times)
+
+
 def profile_paragraph(fn, n: int, top: int = 8) -> str:
     """Where the time of ``fn`` goes, measured now: cProfile, each function's own time
     (a numpy ufunc is not profiled on its own: its time counts in the engine function
@@ -224,6 +245,7 @@ def main(argv=None) -> int:
         print(f"checksums disagree: gfortran {chk}, engine {eng_chk}", file=sys.stderr)
         return 1
     med = [statistics.median(x.ratio("cpu")) for x in series]
+    startup_ms = 1000.0 * gfortran_startup(exe, deck_text, args.rounds)
     lines = [
         HEADING, "",
         f"Measured by `python benchmarks/engine.py` on {machine()}.", "",
@@ -231,7 +253,8 @@ def main(argv=None) -> int:
         f"{THMAX!r}), one process, one core.  The reference is `decks/sielaff.f` built by "
         "`tests/fortran.py` with `-O2` (REAL*8) from a copy whose in-loop WRITEs are "
         "replaced by a checksum of every printed value: it computes everything and formats "
-        "nothing (a whole process, under a millisecond of start-up).  It runs beside each "
+        f"nothing (a whole process: on a deck of one position it takes {startup_ms:.1f} ms of "
+        f"CPU, median of {args.rounds} runs).  It runs beside each "
         f"configuration in each of {args.rounds} rounds; median (range).", "",
         *table(series), "",
         f"* All results into reused arrays: **{med[1]:.2f}x gfortran** in CPU time (goal "
