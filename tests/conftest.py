@@ -18,6 +18,15 @@ DECKS = ROOT / "decks"
 GOLDEN = ROOT / "golden"
 
 
+def tiered(values, default) -> list:
+    """pytest parameters of ``values``, each marked slow unless the default tier runs it:
+    ``default`` is the values it runs, or a predicate on a value.  A tuple value gives
+    one argument per name of a multi-name parametrize ("kind, branch")."""
+    runs = default if callable(default) else default.__contains__
+    return [pytest.param(*(v if isinstance(v, tuple) else (v,)),
+                         marks=() if runs(v) else pytest.mark.slow) for v in values]
+
+
 def split_sheets(text: str) -> list[list[str]]:
     """Records of an ASA listing grouped into sheets, each ending with its '1' record."""
     sheets, current = [], []

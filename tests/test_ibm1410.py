@@ -19,6 +19,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from conftest import tiered
 from sielaff.emulator.arithmetic import ArithmeticError1410, get_arithmetic
 from sielaff.emulator.arithmetic.ibm1410 import D1410, IBM1410, VARIANTS
 from sielaff.emulator.arithmetic.ibm1410 import library as mod
@@ -403,7 +404,7 @@ LIBS = ([IBM1410(K, variant=v) for K in (8, 16) for v in VARIANTS]
 def _tiered(libs):
     """Each library a parameter: the 8-digit ones (the 1410's) in the default tier, the
     others (what more digits would give) in the slow tier."""
-    return [pytest.param(A, marks=() if A.digits == 8 else pytest.mark.slow) for A in libs]
+    return tiered(libs, lambda A: A.digits == 8)
 
 
 @pytest.mark.parametrize("A", _tiered(LIBS), ids=lambda A: f"{A.digits}-{A.variant}")

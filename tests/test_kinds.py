@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from conftest import DECKS
+from conftest import DECKS, tiered
 from procs import run
 from sielaff.emulator.cards import read_deck
 from sielaff.engine.classify import linkage_class
@@ -73,9 +73,9 @@ def test_table_rows_only_where_it_assembles_on_both_branches(kind, ext):
     assert any(abs(tables["open"][t] - tables["crossed"][t]) > 1.0 for t in common)
 
 
-@pytest.mark.parametrize("kind, branch", [
-    pytest.param(k, b, marks=() if (k, b) == (KINDS[0], BRANCHES[0]) else pytest.mark.slow)
-    for k in KINDS for b in BRANCHES])  # the default suite draws one; `-m slow` the rest
+@pytest.mark.parametrize("kind, branch", tiered(
+    [(k, b) for k in KINDS for b in BRANCHES],
+    {(KINDS[0], BRANCHES[0])}))  # the default suite draws one; `-m slow` the rest
 def test_plot_balance_sweep_on_every_kind(tmp_path, kind, branch):
     spec = DECKS / f"{kind}.toml"
     r = sielaff("plot", spec, "--branch", branch, "-o", tmp_path / "figs")

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 import procs
-from conftest import DECKS
+from conftest import DECKS, tiered
 
 TESTS = Path(__file__).resolve().parent
 EXAMPLE = DECKS / "example.dat"
@@ -99,8 +99,7 @@ DEFAULT_CASES = ("run the example deck", "a bad deck's one line and status 2",
                  "memory-limited run")
 
 
-@pytest.mark.parametrize("case", [
-    pytest.param(c, marks=() if c in DEFAULT_CASES else pytest.mark.slow) for c in CASES])
+@pytest.mark.parametrize("case", tiered(CASES, DEFAULT_CASES))
 def test_a_command_forked_is_the_command_run(tmp_path, case):
     argv, kw = CASES[case](tmp_path)
     try:

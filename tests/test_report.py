@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 import procs
-from conftest import DECKS
+from conftest import DECKS, tiered
 
 pytest.importorskip("matplotlib")
 
@@ -83,12 +83,6 @@ PAGES = (("example", "example.dat"), ("si", "si.toml"), ("double", "double.dat")
          ("sweep", "sweep.toml"), ("synth", "synth.toml"))
 #: The pages of the default tier; the others are made only for the slow tier's tests.
 DEFAULT_PAGES = ("example",)
-
-
-def _tiered(names):
-    """Each page a parameter, marked slow where its page is made for the slow tier."""
-    return [pytest.param(n, marks=() if n in DEFAULT_PAGES else pytest.mark.slow)
-            for n in names]
 
 
 #: The frames of the page's animation (report.py draws 24).
@@ -191,7 +185,7 @@ def _check(path: str) -> _Checker:
     return c
 
 
-@pytest.mark.parametrize("name", _tiered([n for n, _ in PAGES]))
+@pytest.mark.parametrize("name", tiered([n for n, _ in PAGES], DEFAULT_PAGES))
 def test_the_page_is_valid_html_and_self_contained(request, name):
     import matplotlib.image
     from PIL import Image
@@ -317,7 +311,7 @@ def browser():
         b.close()
 
 
-@pytest.mark.parametrize("name", _tiered([n for n, _ in PAGES]))
+@pytest.mark.parametrize("name", tiered([n for n, _ in PAGES], DEFAULT_PAGES))
 def test_the_page_in_a_browser(request, browser, name, tmp_path):
     page = browser.new_page(viewport={"width": 1100, "height": 900})
     errors, requests = [], []

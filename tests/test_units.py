@@ -15,7 +15,7 @@ import sys
 
 import pytest
 
-from conftest import DECKS
+from conftest import DECKS, tiered
 from sielaff.quantities import KINDS, fmt, unit, unit_of
 
 SI_SPEC = DECKS / "si.toml"
@@ -106,8 +106,7 @@ FIGURES = {"sweep": 1, "plot": 6, "plot-kinematics": 5, "plot-linkage": 1,
 DEFAULT_COMMANDS = ("check", "table-json", "balance", "plot-bearings")
 
 
-@pytest.mark.parametrize("command", [
-    pytest.param(c, marks=() if c in DEFAULT_COMMANDS else pytest.mark.slow) for c in COMMANDS])
+@pytest.mark.parametrize("command", tiered(COMMANDS, DEFAULT_COMMANDS))
 def test_si_spec_reads_in_si_everywhere(tmp_path, command):
     proc, figures = _run(tmp_path, *COMMANDS[command])
     assert proc.returncode == 0, proc.stderr
