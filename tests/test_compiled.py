@@ -547,3 +547,19 @@ def test_read_only_inputs_find_the_compiled_kernel():
     ref = analyze(EXAMPLE, th, ["TORQ", "GAMMA"], tex=tex)
     assert _worst({n: r[n] for n in ("TORQ", "GAMMA")}, dict(ref)) <= 1.0
     assert C._KERNELS and all(len(k.signatures) == 1 for k in C._KERNELS.values())
+
+
+@pytest.mark.slow  # compiles a kernel of its own
+def test_the_kernel_compiles_for_a_machine_without_x86s_sfence(monkeypatch):
+    """On a machine that is not x86 the kernel ends with an LLVM fence instead of x86's
+    sfence intrinsic, which other targets do not have (the kernel would not compile)."""
+    monkeypatch.setenv(C.KERNEL_DIR_ENV, "off")
+    monkeypatch.setattr(C, "_KERNELS", {})
+    monkeypatch.setattr(C, "_x86", lambda: False)
+    th = np.linspace(0.0, 360.0, 50)
+    got, bad = C.compiled_analyze(_p(EXAMPLE), th, wanted=("TORQ", "GAMMA"))
+    kernel, = C._KERNELS.values()
+    assert "sfence" not in kernel.inspect_llvm(kernel.signatures[0])
+    assert "fence seq_cst" in kernel.inspect_llvm(kernel.signatures[0])
+    ref = analyze(EXAMPLE, th, ["TORQ", "GAMMA"])
+    assert bad == 0 and _worst(got, dict(ref)) <= 1.0

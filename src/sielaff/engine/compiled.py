@@ -273,16 +273,30 @@ def _intrinsics():
 
     @intrinsic
     def sfence(typingctx):
-        """Orders the non-temporal stores before anything after the kernel."""
+        """Orders the non-temporal stores before anything after the kernel: x86's
+        sfence there, an LLVM seq_cst fence on other machines (whose compilers have no
+        x86 intrinsic: the kernel would not compile at all)."""
+        x86 = _x86()
+
         def codegen(context, builder, sig, args):
-            fn = cgutils.get_or_insert_function(
-                builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse.sfence")
-            builder.call(fn, [])
+            if x86:
+                fn = cgutils.get_or_insert_function(
+                    builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse.sfence")
+                builder.call(fn, [])
+            else:
+                builder.fence("seq_cst")
             return context.get_dummy_value()
 
         return types.none(), codegen
 
     return select, floor, address, stream4, sfence, fma
+
+
+def _x86() -> bool:
+    """Whether numba compiles for an x86 machine here (it compiles for this process's)."""
+    import llvmlite.binding as llvm
+
+    return llvm.get_process_triple().split("-")[0] in ("x86_64", "i386", "i686")
 
 
 # Python stand-ins for the intrinsics (the helpers run as plain Python in the tests)
