@@ -499,8 +499,8 @@ def test_refusals_in_one_line(kwargs, match):
 
 @pytest.mark.parametrize("scene, output, match", [
     (Scene(friction=PinFriction(0.1, 0.2)), "TORQ", "pin friction"),
-    (Scene(elements=[Damper((1, 1, 0), (2, 1, 0), 1.0)]), "TORQ", "springs or dampers"),
-    (Scene(elements=[Spring((1, 1, 0), (2, 1, 0), 10.0, 1.0)]), "TORQ", "springs or dampers"),
+    (Scene(elements=[Damper((1, 1, 0), (2, 1, 0), 1.0)]), "TORQ", "springs and dampers"),
+    (Scene(elements=[Spring((1, 1, 0), (2, 1, 0), 10.0, 1.0)]), "TORQ", "springs and dampers"),
     (Scene(), "TORQ_FRICTION", "does not give TORQ_FRICTION"),
     (Scene(), "ASSEMBLED", "does not give ASSEMBLED"),
     (Scene(tex=lambda ath4: ath4), "TORQ", "not a function"),

@@ -405,11 +405,11 @@ def test_plot_and_check_of_a_spec_use_its_scene(tmp_path):
     d = plot_data(deck, None, scene)["fig12-driving-torque"]
     torq = analyze(EXAMPLE, d.ath2, ["TORQ"], **SCENE)["TORQ"]
     np.testing.assert_array_equal(d.series["driving torque TORQ"], torq)
-    assert "gravity, TH2DD = -40 rad/sec^2, 1 load" in d.title
+    assert "gravity, 1 load, TH2DD = -40 rad/sec^2" in d.title
     status, _, err = _cli("plot", str(DECKS / "scene.toml"), "-o", str(tmp_path / "p"))
     assert status == 0 and err == "" and len(list((tmp_path / "p").iterdir())) == 6
     status, text, _ = _cli("check", str(DECKS / "scene.toml"))
-    assert status == 0 and "with the spec's scene: gravity, TH2DD = -40" in text
+    assert status == 0 and "with the spec's scene: gravity, 1 load, TH2DD = -40" in text
     from sielaff.engine.derived import cycle_work
 
     work, _ = cycle_work(EXAMPLE, **SCENE)

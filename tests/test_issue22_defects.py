@@ -168,11 +168,13 @@ def test_table_adds_the_torque_parts_the_scene_has(capsys):
     from sielaff.tools.common import read_spec_deck
 
     head, values = _table([str(DECKS / "scene.toml")], capsys)
-    assert head[-2:] == ["TORQ_GRAVITY[in-lb]", "TORQ_LOADS[in-lb]"]
+    # and its crank acceleration shows TH2DD
+    assert head[-3:] == ["TORQ_GRAVITY[in-lb]", "TORQ_LOADS[in-lb]", "TH2DD[rad/sec^2]"]
+    assert not any(h.startswith("TORQ_TEX") for h in head)
     deck, scene = read_spec_deck(str(DECKS / "scene.toml"))
     want = analyze(deck.mechanism, values[:, 0], ["TORQ_GRAVITY", "TORQ_LOADS"], scene=scene)
-    np.testing.assert_array_equal(values[:, -2], want["TORQ_GRAVITY"])
-    np.testing.assert_array_equal(values[:, -1], want["TORQ_LOADS"])
+    np.testing.assert_array_equal(values[:, -3], want["TORQ_GRAVITY"])
+    np.testing.assert_array_equal(values[:, -2], want["TORQ_LOADS"])
     assert np.abs(values[:, -2]).max() > 1.0 and np.abs(values[:, -1]).max() > 1.0
     # a deck has no scene: no parts
     head, _ = _table([str(DECKS / "example.dat")], capsys)
@@ -180,15 +182,19 @@ def test_table_adds_the_torque_parts_the_scene_has(capsys):
 
 
 def test_table_torque_parts_on_request_sum_to_torq(capsys):
-    """--torque-parts: all four parts, in the spec's unit (SI: N m); with no friction or
-    elements in the scene they add up to TORQ."""
+    """--torque-parts: every part (the model's), in the spec's unit (SI: N m); they add
+    up to TORQ."""
+    from sielaff.tools.table import torque_parts
+
     head, values = _table([str(DECKS / "si.toml"), "--torque-parts"], capsys)
     names = [h.split("[")[0] for h in head]
-    assert head[-4:] == [f"{n}[N m]" for n in
-                         ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")]
+    parts = torque_parts()
+    assert len(parts) == 6 and parts[0] == "TORQ_INERTIA"
+    at = [names.index(p) for p in parts]
+    assert [head[i] for i in at] == [f"{n}[N m]" for n in parts]
     torq = values[:, names.index("TORQ") - 1]
-    np.testing.assert_allclose(values[:, -4:].sum(axis=1), torq,
-                               atol=1e-9 * np.abs(torq).max())
+    np.testing.assert_allclose(values[:, [i - 1 for i in at]].sum(axis=1), torq,
+                               atol=1e-12 * np.abs(torq).max())
     assert main(["table", str(DECKS / "si.toml"), "--torque-parts", "--only",
                  "kinematics"]) == 2
     assert "--torque-parts" in capsys.readouterr().err

@@ -209,7 +209,8 @@ def _extra_torque_module():
                         parts={"fa32x": "fa32x_c", "fa32y": "fa32y_c", "fb34x": "fb34x_c",
                                "fb34y": "fb34y_c", "foax": "foax_c", "foay": "foay_c",
                                "fobx": "fobx_c", "foby": "foby_c", "torq": "TORQ_COUPLE"},
-                        torque="TORQ_COUPLE")
+                        torque="TORQ_COUPLE",
+                        outputs={"TORQ_COUPLE": ("torque", "the part of TORQ the couple takes")})
     return mod
 
 

@@ -149,7 +149,7 @@ def test_table_of_the_friction_deck_carries_friction(capsys):
 def test_check_names_the_effects_and_does_not_call_the_work_a_fault(capsys):
     status, out, err = run_cli(["check", str(FRICTION_DECK)], capsys)
     assert status == 0, err
-    assert "with the spec's scene: pin friction, 1 spring)" in out
+    assert "with the spec's scene: 1 spring, pin friction)" in out
     assert "NOT zero" not in out and "TEX = 0" not in out
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from sielaff.mechanism import UNITS as MECHANISM_UNITS
 
-__all__ = ["CONVENTIONS", "G", "KINDS", "describe", "fmt", "unit", "unit_of"]
+__all__ = ["CONVENTIONS", "G", "KINDS", "declare", "describe", "fmt", "unit", "unit_of"]
 
 #: Standard gravity in the report's unit system, in/sec^2 (the listing's G=386.0880):
 #: W / G turns a weight in lb into a mass in lb-sec^2/in.
@@ -55,12 +55,7 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TH4D": ("rad/sec", "angular velocity of link 4, CCW +"),
     "TH3DD": ("rad/sec^2", "angular acceleration of link 3, CCW +"),
     "TH4DD": ("rad/sec^2", "angular acceleration of link 4, CCW +"),
-    "TEX": ("in-lb", "external torque on link 4, CCW + (0 in the 1966 program)"),
-    "TH2DD": ("rad/sec^2", "angular acceleration of the crank, CCW + (0 in 1966)"),
     "TORQ_INERTIA": ("in-lb", "the part of TORQ the links' inertia takes"),
-    "TORQ_GRAVITY": ("in-lb", "the part of TORQ gravity takes"),
-    "TORQ_LOADS": ("in-lb", "the part of TORQ the external loads take"),
-    "TORQ_TEX": ("in-lb", "the part of TORQ the torque TEX on link 4 takes"),
     "TORQ": ("in-lb", "driving torque the drive puts on the crank, CCW +"),
     "SHAKM": ("in-lb", "shaking moment on the frame about O2, CCW +"),
     "ASSEMBLED": ("-", "True where the loop closes at this crank angle (the position exists)"),
@@ -68,15 +63,26 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TI4": ("in-lb", "inertia torque of link 4, -ZI4 TH4DD"),
     "TP2": ("in-lb", "driving torque for link 3's inertia alone (superposition)"),
     "TPP2": ("in-lb", "driving torque for link 4's inertia alone (superposition)"),
-    "TORQ_FRICTION": ("in-lb", "the part of TORQ pin friction takes (TORQ with it less "
-                               "TORQ without)"),
-    "TORQ_ELEMENTS": ("in-lb", "the part of TORQ the springs and dampers take"),
-    **{f"PLOSS_{pin}": ("in-lb/sec", f"power pin friction loses at {pin}, >= 0")
-       for pin in ("O2", "A", "B", "O4")},
-    "FRICTION_ITERATIONS": ("-", "iterations of the pin-friction fixed point"),
-    "FRICTION_STATUS": ("-", "pin friction: 0 solved, 1 a relative rotation is zero, "
-                             "2 not converged (NaN)"),
 }
+
+
+#: The outputs the model's effects declare (``Model.add_effect``): name -> (kind, meaning).
+_DECLARED: dict[str, tuple[str, str]] = {}
+
+
+def declare(name: str, kind: str, description: str) -> None:
+    """Enter an effect's output in the catalogue: its kind of quantity (a key of
+    :data:`KINDS`, which gives its unit in each system) and its meaning.  The effect's
+    declaration is the one place that says it; declaring a name again with another kind
+    is a ValueError."""
+    if kind not in KINDS:
+        raise ValueError(f"output {name}: kind {kind!r} is not one of {', '.join(KINDS)}")
+    known = _DECLARED.get(name)
+    if known is not None and known[0] != kind:
+        raise ValueError(f"output {name} declared as {known[0]} and as {kind}")
+    if name in _FIXED:
+        raise ValueError(f"output {name} is the listing's, not an effect's")
+    _DECLARED[name] = (kind, description)
 
 
 def _vector(name: str) -> tuple[str, str] | None:
@@ -97,12 +103,6 @@ def _vector(name: str) -> tuple[str, str] | None:
             return "deg", f"direction of the {meaning}, CCW from +x"
         if name in (base + "X", base + "Y"):
             return "lb", f"{name[-1].lower()} component of the {meaning}"
-    for kind in ("SPRING", "DAMPER"):  # SPRING1_L, DAMPER2_F, ...: engine/elements.py
-        head, _, q = name.partition("_")
-        if head.startswith(kind) and head[len(kind):].isdigit() and q in ("L", "LD", "F"):
-            what = {"L": ("in", "length"), "LD": ("in/sec", "rate of change of the length"),
-                    "F": ("lb", "tension (negative: it pushes)")}[q]
-            return what[0], f"{what[1]} of {kind.lower()} {head[len(kind):]}"
     if name[:2] == "FG" and name[-1] in "XY":  # FG2X: D'Alembert inertia force
         return "lb", f"{name[-1].lower()} component of the inertia force -m aG of link {name[2]}"
     if name.startswith(("FP", "F3P")) and name[-1] in "XY":  # superposition partials
@@ -126,6 +126,8 @@ def unit(name: str, units: str = "in-lb-sec") -> str:
             return "kg"  # SI takes masses, not weights
     elif name == "CARD":
         found = "-"
+    elif name in _DECLARED:
+        return unit_of(_DECLARED[name][0], units)
     else:
         entry = _FIXED.get(name) or _vector(name)
         if entry is None:
@@ -154,6 +156,10 @@ KINDS: dict[str, tuple[str, str]] = {
     "angle": ("deg", "deg"),
     "rate": ("rad/sec", "rad/s"),
     "angular acceleration": ("rad/sec^2", "rad/s^2"),
+    "stiffness": ("lb/in", "N/m"),
+    "damping": ("lb sec/in", "N s/m"),
+    "rotary damping": ("in-lb-sec", "N m s"),  # a torque per rad/sec
+    "number": ("-", "-"),
 }
 
 
@@ -192,7 +198,7 @@ def describe(name: str) -> str:
     """One line saying what a listing or engine name is."""
     if name == "CARD":
         return "the deck line of the range card this position comes from"
-    found = _FIXED.get(name) or _vector(name)
+    found = _FIXED.get(name) or _DECLARED.get(name) or _vector(name)
     if found is None:
         raise KeyError(f"no description is known for {name!r}")
     return found[1]

@@ -347,9 +347,10 @@ def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Result
     model, sc = req.model, req.scene
     if model is not FOURBAR:
         raise ValueError(f"backend='numba' compiles the four-bar model, not {model.name}")
-    if sc.friction is not None or sc.elements:
-        raise ValueError("backend='numba' does not model pin friction, springs or dampers: "
-                         "use backend='numpy'")
+    uncompiled = [e.name for e in model.effects_on(sc) if not e.compiled]
+    if uncompiled:  # each effect says whether the kernel models it
+        raise ValueError(f"backend='numba' does not model {', '.join(uncompiled)}: use "
+                         "backend='numpy'")
     missing = [n for n in req.wanted if n not in SUPPORTED]
     if missing:
         raise ValueError(f"backend='numba' does not give {', '.join(missing)}: use "

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import check_value
@@ -205,7 +206,158 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     return {"elements": scene.elements, "NELEMENTS": float(len(scene.elements))}
 
 
+_QUANTITIES = {"L": ("length", "length"), "LD": ("speed", "rate of change of the length"),
+               "F": ("force", "tension (negative: it pushes)")}
+_LINK_WORDS = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
+
+
+def _numbered(scene: Any) -> list[tuple[str, int, Spring | Damper]]:
+    """(kind, k, element) with k counted per kind, in the order of ``elements``."""
+    count = {"SPRING": 0, "DAMPER": 0}
+    out = []
+    for e in scene.elements:
+        kind = "SPRING" if isinstance(e, Spring) else "DAMPER"
+        count[kind] += 1
+        out.append((kind, count[kind], e))
+    return out
+
+
+def _columns(scene: Any) -> tuple[str, ...]:
+    return ("TORQ_ELEMENTS",) + tuple(f"{kind}{k}_{q}" for kind, k, _ in _numbered(scene)
+                                      for q in ("L", "LD", "F"))
+
+
+def _summary(scene: Any, units: str) -> str:
+    words = []
+    for kind in (Spring, Damper):
+        n = sum(isinstance(e, kind) for e in scene.elements)
+        if n:
+            words.append(f"{n} {kind.__name__.lower()}{'s' if n > 1 else ''}")
+    return ", ".join(words)
+
+
+def _point_text(p: tuple[int, float, float], units: str) -> str:
+    from sielaff.quantities import fmt
+
+    return f"{_LINK_WORDS[p[0]]} {fmt(p[1], 'length', units, '.6g')} at {p[2]:.6g} deg"
+
+
+def _describe(scene: Any, units: str) -> list[Fact]:
+    facts = []
+    for kind, k, e in _numbered(scene):
+        g = f"{kind.lower()} {k}"
+        facts += [Fact(g, "a", _point_text(e.a, units)), Fact(g, "b", _point_text(e.b, units))]
+        if isinstance(e, Spring):
+            facts += [Fact(g, "k", e.k, "stiffness"), Fact(g, "free length", e.length, "length")]
+        else:
+            facts.append(Fact(g, "c", e.c, "damping"))
+    return facts
+
+
+def _figure_outputs(scene: Any) -> tuple[str, ...]:
+    return tuple(f"{kind}{k}_{q}" for kind, k, _ in _numbered(scene) for q in ("L", "F", "LD"))
+
+
+def _figures(r: Any, scene: Any, units: str, speed: float) -> list[Fact]:
+    """Each spring's length and force range; each damper's energy per revolution (the
+    mean over the revolution's grid of c (dL/dt)^2, times the period)."""
+    facts = []
+    for kind, k, e in _numbered(scene):
+        g = f"{kind.lower()} {k}"
+        length, force = np.asarray(r[f"{kind}{k}_L"]), np.asarray(r[f"{kind}{k}_F"])
+        facts += [Fact(g, "shortest", float(np.min(length)), "length"),
+                  Fact(g, "longest", float(np.max(length)), "length"),
+                  Fact(g, "least tension", float(np.min(force)), "force"),
+                  Fact(g, "most tension", float(np.max(force)), "force")]
+        if isinstance(e, Damper) and speed:
+            power = float(np.mean(np.asarray(r[f"{kind}{k}_LD"]) * force))
+            facts += [Fact(g, "mean power dissipated", power, "power"),
+                      Fact(g, "per revolution", power * 2.0 * np.pi / speed, "work")]
+    return facts
+
+
+def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+    """``[[scene.spring]]`` (a, b, k, length) and ``[[scene.damper]]`` (a, b, c), springs
+    first; a point is ``{ link, distance, angle }``."""
+    out: list[Spring | Damper] = []
+    for kind, keys in ELEMENT_KEYS.items():
+        items = table.get(kind, [])
+        if not isinstance(items, list):
+            raise reader.error(f"{path}: write each {kind} as [[scene.{kind}]]")
+        for n, item in enumerate(items, 1):
+            where = f"{path}: [[scene.{kind}]] {n}"
+            item = reader.table(where, item)
+            reader.unknown(where, item, ("a", "b", *keys))
+            points = [_spec_point(f"{where} {key}", item.get(key), reader) for key in ("a", "b")]
+            values = []
+            for key in keys:
+                if key not in item:
+                    raise reader.error(f"{where} has no {key}")
+                values.append(reader.number(f"{where} {key}", item[key]))
+            try:
+                out.append((Spring if kind == "spring" else Damper)(*points, *values))
+            except ValueError as exc:
+                raise reader.error(f"{where}: {exc}") from None
+    return {"elements": out} if out else {}
+
+
+#: The links a spring's or damper's point may be on (the frame is link 1).
+POINT_LINKS = {"frame": 1, "crank": 2, "coupler": 3, "rocker": 4, 1: 1, 2: 2, 3: 3, 4: 4}
+#: Each element's keys besides its points a and b, in the engine's order.
+ELEMENT_KEYS = {"spring": ("k", "length"), "damper": ("c",)}
+
+
+def _spec_point(where: str, p: Any, reader: Any) -> tuple[int, float, float]:
+    """A point ``{ link = "frame", distance = ..., angle = ... }`` as (link, r, angle)."""
+    if p is None:
+        raise reader.error(f"{where}: missing (write {{ link = ..., distance = ..., "
+                           "angle = ... }})")
+    p = reader.table(where, p)
+    reader.unknown(where, p, ("link", "distance", "angle"))
+    link = p.get("link")
+    if isinstance(link, bool) or link not in POINT_LINKS:
+        raise reader.error(f"{where} link = {link!r}: frame, crank, coupler or rocker")
+    return (POINT_LINKS[link], reader.number(f"{where} distance", p.get("distance", 0)),
+            reader.number(f"{where} angle", p.get("angle", 0)))
+
+
+def _write(scene: Any) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for e in scene.elements:
+        item: dict[str, Any] = {key: {"link": _LINK_WORDS[p[0]], "distance": p[1], "angle": p[2]}
+                                for key, p in (("a", e.a), ("b", e.b))}
+        if isinstance(e, Spring):
+            out.setdefault("spring", []).append(item | {"k": e.k, "length": e.length})
+        else:
+            out.setdefault("damper", []).append(item | {"c": e.c})
+    return out
+
+
+_HELP = """\
+[[scene.spring]]              # tension k (L - length) between two points
+a = { link = "frame", distance = 6.0, angle = 90.0 }   # placed like the mass
+b = { link = "rocker", distance = 12.0, angle = 0.0 }  # centres; frame: from O2
+k = 30.0                      # lb/in or N/m                 along O2-O4
+length = 5.0                  # free length, in or m
+[[scene.damper]]              # tension c dL/dt between two points
+a = { link = "crank", distance = 2.0, angle = 0.0 }
+b = { link = "rocker", distance = 6.0, angle = 0.0 }
+c = 0.5                       # lb sec/in or N s/m"""
+
+
 EFFECT = Effect("springs and dampers", (step_of(_elements), step_of(_element_outputs)), _seed,
                 parts={s: s + "_s" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
                                              "foay", "fobx", "foby")} | {"torq": "TORQ_ELEMENTS"},
-                torque="TORQ_ELEMENTS")
+                torque="TORQ_ELEMENTS",
+                params=(Param("elements", (), check_elements,
+                              "sequence of Spring and Damper\n    Springs and dampers between "
+                              "points of the links and the frame."),),
+                outputs={"TORQ_ELEMENTS": ("torque",
+                                           "the part of TORQ the springs and dampers take"),
+                         **{n: (_QUANTITIES[n.rsplit("_", 1)[1]][0],
+                                f"{_QUANTITIES[n.rsplit('_', 1)[1]][1]} of "
+                                f"{n.split('_')[0][:6].lower()} {n.split('_')[0][6:]}")
+                            for n in ELEMENT_OUTPUTS}},
+                on=lambda scene: bool(scene.elements), summary=_summary, describe=_describe,
+                figure_outputs=_figure_outputs, figures=_figures, columns=_columns,
+                spec=SpecForm(("spring", "damper"), _read, _write, _HELP))

@@ -1,34 +1,42 @@
 """The 1966 four-bar as a model: its steps, its effects, one registration line each.
 
 To add an effect: write its module (its ``@step`` s, a ``_seed(scene, mechanism)`` and
-an ``EFFECT = Effect(...)`` naming the parts it adds to the pin forces and TORQ), then
-add one line below.  The order of the effects is the order their parts are added in.
+an ``EFFECT = Effect(...)`` declaring the parts it adds to the pin forces and TORQ, its
+Scene fields, its outputs' units, its spec form and its words), then add one line below
+naming the module.  The order of the effects is the order their parts are added in, and
+the order the tools show them in.
 """
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from sielaff.engine import (
     accelerations,
-    crank,
-    elements,
     forces,
-    friction,
-    gravity,
     inertia,
-    loads,
     positions,
-    tex,
     velocities,
 )
+from sielaff.engine.declare import Param
 from sielaff.engine.outputs import RESULTS, VECTOR_STEPS
 from sielaff.engine.registry import SLOTS, Model
 from sielaff.mechanism import FIELD_NAMES, MASS_DIVISOR
 
-__all__ = ["FOURBAR", "INPUTS", "KINEMATIC_OUTPUTS", "OUTPUTS"]
+__all__ = ["BRANCHES", "FOURBAR", "INPUTS", "KINEMATIC_OUTPUTS", "OUTPUTS"]
+
+#: The two assemblies of a four-bar: ``open`` (the 1966 program's: B above the line A-O4
+#: for the report's example) and ``crossed`` (B mirrored about that line).
+BRANCHES = ("open", "crossed")
+
+
+def _branch(v: Any) -> str:
+    if not isinstance(v, str) or v not in BRANCHES:
+        raise ValueError(f"Scene.branch = {v!r}: 'open' (the 1966 program's) or 'crossed'")
+    return v
 
 
 def _seed(mechanism: Any, ath2: Any, scene: Any) -> dict[str, Any]:
@@ -45,14 +53,16 @@ def _seed(mechanism: Any, ath2: Any, scene: Any) -> dict[str, Any]:
 #: The report's model: positions, velocities, accelerations, inertia, forces, outputs.
 FOURBAR = Model("four-bar", seed=_seed, results=RESULTS,
                 sums={slot: slot + "_e" for slot in SLOTS},
-                breakdown=("TORQ_INERTIA", "TORQ"), counts="s34")
+                breakdown=("TORQ_INERTIA", "TORQ"), counts="s34",
+                params=(Param("branch", "open", _branch,
+                              '{"open", "crossed"}\n    Which assembly of the loop.'),))
 FOURBAR.add(positions, velocities, accelerations, inertia, forces, VECTOR_STEPS)
-FOURBAR.add_effect(gravity.EFFECT)
-FOURBAR.add_effect(loads.EFFECT)
-FOURBAR.add_effect(tex.EFFECT)
-FOURBAR.add_effect(crank.EFFECT)
-FOURBAR.add_effect(elements.EFFECT)
-FOURBAR.add_effect(friction.EFFECT)
+FOURBAR.add_effect("gravity")
+FOURBAR.add_effect("loads")
+FOURBAR.add_effect("tex")
+FOURBAR.add_effect("crank")
+FOURBAR.add_effect("elements")
+FOURBAR.add_effect("friction")
 
 #: Every name ``analyze`` accepts (of the default model): RESULTS plus the listing's
 #: intermediate quantities (inertia loads FG2X.., TI3, TI4, superposition parts FP34X..,
@@ -66,7 +76,8 @@ KINEMATIC_OUTPUTS = tuple(
         ("W2", "W3", "W4", "ZI2", "ZI3", "ZI4", "TEX", "tex_fn")))
 )
 
-#: Inputs seeded into the namespace by the model and its effects (for the 1966 scene).
-INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW", "GX", "GY", "loads", "NLOADS",
-                                     "elements", "NELEMENTS", "MUR_O2", "MUR_A", "MUR_B",
-                                     "MUR_O4", "friction_tol", "friction_max_iter")
+#: Inputs seeded into the namespace by the model and its effects (for the 1966 scene):
+#: what each effect's seed gives for its fields' defaults, less what a step provides.
+_DEFAULTS = SimpleNamespace(**{p.name: p.default for p in FOURBAR.params})
+INPUTS = ("ATH2",) + FIELD_NAMES + ("BRANCH", "GW") + tuple(
+    n for e in FOURBAR.effects for n in e.seed(_DEFAULTS, None) if n not in FOURBAR.provider)

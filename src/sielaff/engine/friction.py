@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import check_value
@@ -214,7 +215,130 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     return ns
 
 
-EFFECT = Effect("friction", (step_of(_friction),), _seed, torque="TORQ_FRICTION",
+def has_friction(scene: Any) -> bool:
+    """Whether some pin of ``scene`` has friction (mu r > 0): the effect's one rule."""
+    return any(f is not None and f.mu * f.radius > 0.0
+               for f in _per_pin(scene.friction).values())
+
+
+def _describe(scene: Any, units: str) -> list[Fact]:
+    facts = []
+    for pin, f in _per_pin(scene.friction).items():
+        if f is None:
+            facts.append(Fact(pin, "friction", "none"))
+            continue
+        facts += [Fact(pin, "mu", f.mu, "number"), Fact(pin, "pin radius", f.radius, "length")]
+    return facts
+
+
+def _figures(r: Any, scene: Any, units: str, speed: float) -> list[Fact]:
+    """Each pin's friction loss, and all of it, as a mean power over the revolution's grid
+    and as the energy of one revolution at the crank speed."""
+    facts = []
+    total = 0.0
+    for pin in PINS:
+        loss = float(np.mean(np.asarray(r[f"PLOSS_{pin}"])))
+        total += loss
+        facts.append(Fact(f"loss at {pin}", "mean", loss, "power"))
+        if speed:
+            facts.append(Fact(f"loss at {pin}", "per revolution", loss * 2.0 * np.pi / speed,
+                              "work"))
+    facts.append(Fact("loss in all", "mean", total, "power"))
+    if speed:
+        facts.append(Fact("loss in all", "per revolution", total * 2.0 * np.pi / speed, "work"))
+    failed = int(np.count_nonzero(np.asarray(r["FRICTION_STATUS"]) == 2.0))
+    if failed:
+        facts.append(Fact("not converged", "positions of the grid (NaN)", str(failed)))
+    return facts
+
+
+#: A pin's friction keys: mu and radius, and the fixed point's tol and max_iter (optional).
+FRICTION_KEYS = ("mu", "radius", "tol", "max_iter")
+
+
+def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+    """``[scene.friction]`` with mu and radius (every pin alike), or one table per pin
+    (``[scene.friction.O2]``, ...), as Scene.friction."""
+    if "friction" not in table:
+        return {}
+    where = f"{path}: [scene.friction]"
+    t = reader.table(where, table["friction"])
+    pins = [k for k in t if k in PINS]
+    if pins and any(k in FRICTION_KEYS for k in t):
+        raise reader.error(f"{where}: give mu and radius for every pin, or a table per pin "
+                           f"({', '.join(PINS)}), not both")
+    if not pins:
+        return {"friction": _pin_of(where, t, reader)}
+    reader.unknown(where, t, PINS)
+    return {"friction": {pin: _pin_of(f"{where[:-1]}.{pin}]", v, reader)
+                         for pin, v in t.items()}}
+
+
+def _pin_of(where: str, table: Any, reader: Any) -> PinFriction:
+    table = reader.table(where, table)
+    reader.unknown(where, table, FRICTION_KEYS)
+    for key in ("mu", "radius"):
+        if key not in table:
+            raise reader.error(f"{where} has no {key} (write mu = ..., radius = ...)")
+    extra: dict[str, Any] = {}
+    if "tol" in table:
+        extra["tol"] = reader.number(f"{where} tol", table["tol"])
+    if "max_iter" in table:
+        n = table["max_iter"]
+        if isinstance(n, bool) or not isinstance(n, int):
+            raise reader.error(f"{where} max_iter = {n!r}: a whole number, 1 to 10000")
+        extra["max_iter"] = n
+    try:
+        return PinFriction(reader.number(f"{where} mu", table["mu"]),
+                           reader.number(f"{where} radius", table["radius"]), **extra)
+    except ValueError as exc:
+        raise reader.error(f"{where}: {exc}") from None
+
+
+def _write(scene: Any) -> dict[str, Any]:
+    def one(f: PinFriction) -> dict[str, Any]:
+        return {"mu": f.mu, "radius": f.radius, "tol": f.tol, "max_iter": f.max_iter}
+
+    f = scene.friction
+    if f is None:
+        return {}
+    if isinstance(f, PinFriction):
+        return {"friction": one(f)}
+    return {"friction": {pin: one(v) for pin, v in f.items()}}
+
+
+_HELP = """\
+[scene.friction]              # Coulomb friction, the same in the four pins ...
+mu = 0.1                      # coefficient of friction
+radius = 0.25                 # the pin's radius, in or m
+tol = 1e-13                   # optional: the fixed point's tolerance ...
+max_iter = 100                # ... and its iterations (PinFriction)
+# ... or each pin its own (a pin left out has none):
+# [scene.friction.O2]  mu = 0.1  radius = 0.5      (pins O2, A, B, O4)"""
+
+
+EFFECT = Effect("pin friction", (step_of(_friction),), _seed, torque="TORQ_FRICTION",
                 corrects={**{t: t.lower() + "_f" for t in TOTALS[:-1]},
                           "TORQ": "TORQ_FRICTION"},
-                switch=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"))
+                switch=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"),
+                params=(Param("friction", None, check_friction,
+                              "None, PinFriction or mapping\n    Coulomb friction in the pins: "
+                              "one :class:`~sielaff.engine.friction.PinFriction`\n    for all "
+                              'four, or ``{"O2": ..., "A": ..., "B": ..., "O4": ...}`` (a pin '
+                              "left out\n    has none)."),),
+                outputs={"TORQ_FRICTION": ("torque", "the part of TORQ pin friction takes "
+                                                     "(TORQ with it less TORQ without)"),
+                         **{f"PLOSS_{pin}": ("power", f"power pin friction loses at {pin}, >= 0")
+                            for pin in PINS},
+                         "FRICTION_ITERATIONS": ("number",
+                                                 "iterations of the pin-friction fixed point"),
+                         "FRICTION_STATUS": ("number", "pin friction: 0 solved, 1 a relative "
+                                                       "rotation is zero, 2 not converged (NaN)")},
+                on=has_friction, summary=lambda scene, units: "pin friction",
+                describe=_describe,
+                figure_outputs=lambda scene: tuple(f"PLOSS_{p}" for p in PINS)
+                + ("FRICTION_STATUS",),
+                figures=_figures,
+                columns=lambda scene: ("TORQ_FRICTION",) + tuple(f"PLOSS_{p}" for p in PINS)
+                + ("FRICTION_STATUS",),
+                spec=SpecForm(("friction",), _read, _write, _HELP))

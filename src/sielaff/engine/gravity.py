@@ -9,8 +9,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
+from sielaff.engine.values import LIMIT
 from sielaff.mechanism import STANDARD_GRAVITY
 
 
@@ -39,7 +41,60 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     return {"GX": g[0], "GY": g[1]}
 
 
+def check_gravity(g: Any) -> Any:
+    """``Scene.gravity`` checked: None, ``"down"`` or a finite vector (gx, gy)."""
+    if g is None or (isinstance(g, str) and g == "down"):
+        return g
+    try:
+        gx, gy = (float(x) for x in g)
+    except (TypeError, ValueError):
+        raise ValueError(f"Scene.gravity = {g!r}: give None, 'down', or the vector (gx, gy) "
+                         "in the mechanism's length unit per sec^2") from None
+    for axis, x in (("gx", gx), ("gy", gy)):
+        if not (abs(x) <= LIMIT):
+            raise ValueError(f"Scene.gravity {axis} = {x!r}: not a finite acceleration "
+                             f"within {LIMIT:g}")
+    return (gx, gy)
+
+
+def _describe(scene: Any, units: str) -> list[Fact]:
+    g = scene.gravity
+    if isinstance(g, str):
+        system = "SI" if units == "SI" else "in-lb-sec"
+        return [Fact("", "gravity", "standard, along -y"),
+                Fact("", "g", STANDARD_GRAVITY[system], "acceleration")]
+    return [Fact("", "gravity gx", g[0], "acceleration"),
+            Fact("", "gravity gy", g[1], "acceleration")]
+
+
+def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+    gravity = table.get("gravity")
+    if gravity is None:
+        return {}
+    if gravity == "down":
+        return {"gravity": "down"}
+    if not (isinstance(gravity, list) and len(gravity) == 2):
+        raise reader.error(f"{path}: [scene] gravity = {gravity!r}: \"down\" or [gx, gy]")
+    return {"gravity": tuple(reader.number(f"{path}: [scene] gravity", g) for g in gravity)}
+
+
+def _write(scene: Any) -> dict[str, Any]:
+    g = scene.gravity
+    return {} if g is None else {"gravity": g if isinstance(g, str) else list(g)}
+
+
 EFFECT = Effect("gravity", (step_of(_gravity),), _seed,
                 parts={s: s + "_g" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
                                              "foay", "fobx", "foby")} | {"torq": "TORQ_GRAVITY"},
-                torque="TORQ_GRAVITY")
+                torque="TORQ_GRAVITY",
+                params=(Param("gravity", None, check_gravity,
+                              'None, "down" or (gx, gy)\n    The acceleration of gravity in '
+                              "the frame's axes [length unit/sec^2]; ``\"down\"``\n    is "
+                              "standard gravity along -y in the mechanism's unit system."),),
+                outputs={"TORQ_GRAVITY": ("torque", "the part of TORQ gravity takes")},
+                on=lambda scene: scene.gravity is not None,
+                summary=lambda scene, units: "gravity", describe=_describe,
+                spec=SpecForm(("gravity",), _read, _write,
+                              'gravity = "down"              # or [gx, gy] in length/sec^2; '
+                              "absent: off"),
+                compiled=True)

@@ -12,10 +12,12 @@ the pin forces and drive torque they take (``statics.pins``): the effect's part
 from __future__ import annotations
 
 from dataclasses import dataclass
+from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 import numpy as np
 
+from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import call_checked, check_value
@@ -91,7 +93,107 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     return {"loads": scene.loads, "NLOADS": float(len(scene.loads))}
 
 
+#: The fields of a Load that may vary with the crank angle.
+FIELDS = ("r", "angle", "fx", "fy", "torque")
+#: The links a spec names (the moving ones).
+LINKS_BY_NAME = {"crank": 2, "coupler": 3, "rocker": 4, 2: 2, 3: 3, 4: 4}
+_LINK_WORDS = {2: "crank", 3: "coupler", 4: "rocker"}
+
+
+def check_loads(v: Any) -> tuple[Load, ...]:
+    """``Scene.loads`` checked: a sequence of Load."""
+    if isinstance(v, Load | str | bytes):
+        raise ValueError(f"Scene.loads = {v!r}: a sequence of sielaff.Load")
+    try:
+        loads = tuple(v)
+    except TypeError:
+        raise ValueError(f"Scene.loads = {v!r}: a sequence of sielaff.Load") from None
+    for i, load in enumerate(loads):
+        if not isinstance(load, Load):
+            raise ValueError(f"Scene.loads[{i}] = {load!r} is not a sielaff.Load")
+    return loads
+
+
+def _varies(loads: tuple[Load, ...]) -> list[tuple[str, Any]]:
+    return [(f"loads[{i}].{n}", getattr(load, n)) for i, load in enumerate(loads)
+            for n in FIELDS if not callable(getattr(load, n)) and np.ndim(getattr(load, n))]
+
+
+def _block(loads: tuple[Load, ...], part: Any) -> tuple[Load, ...]:
+    return tuple(dataclasses_replace(load, **{n: part(f"loads[{k}].{n}", getattr(load, n))
+                                              for n in FIELDS})
+                 for k, load in enumerate(loads))
+
+
+def _text(v: Any, kind: str) -> tuple[Any, str | None]:
+    return ("a function of THETA 2", None) if callable(v) else \
+        ("varying with THETA 2", None) if np.ndim(v) else (float(v), kind)
+
+
+def _describe(scene: Any, units: str) -> list[Fact]:
+    facts = []
+    for i, load in enumerate(scene.loads, 1):
+        g = f"load {i} on the {_LINK_WORDS[load.link]}"
+        for label, name, kind in (("r", "r", "length"), ("angle", "angle", "angle"),
+                                  ("fx", "fx", "force"), ("fy", "fy", "force"),
+                                  ("torque", "torque", "torque")):
+            facts.append(Fact(g, label, *_text(getattr(load, name), kind)))
+    return facts
+
+
+def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+    loads = table.get("load", [])
+    if not isinstance(loads, list):
+        raise reader.error(f"{path}: write each load as [[scene.load]]")
+    out = []
+    for n, item in enumerate(loads, 1):
+        where = f"{path}: [[scene.load]] {n}"
+        item = reader.table(where, item)
+        reader.unknown(where, item, ("link", "distance", "angle", "force", "torque"))
+        link = LINKS_BY_NAME.get(item.get("link"))
+        if link is None:
+            raise reader.error(f"{where} link = {item.get('link')!r}: crank, coupler or rocker")
+        force = item.get("force", [0.0, 0.0])
+        if not (isinstance(force, list) and len(force) == 2):
+            raise reader.error(f"{where} force = {force!r}: [fx, fy]")
+        fx, fy = (reader.number(f"{where} force", f) for f in force)
+        values = (reader.number(f"{where} distance", item.get("distance", 0)),
+                  reader.number(f"{where} angle", item.get("angle", 0)), fx, fy,
+                  reader.number(f"{where} torque", item.get("torque", 0)))
+        try:
+            out.append(Load(link, *values))
+        except ValueError as exc:
+            raise reader.error(f"{where}: {exc}") from None
+    return {"loads": out} if out else {}
+
+
+def _write(scene: Any) -> dict[str, Any]:
+    items = [{"link": _LINK_WORDS[ld.link], "distance": float(ld.r), "angle": float(ld.angle),
+              "force": [float(ld.fx), float(ld.fy)], "torque": float(ld.torque)}
+             for ld in scene.loads
+             if not any(callable(getattr(ld, n)) or np.ndim(getattr(ld, n)) for n in FIELDS)]
+    return {"load": items} if items else {}
+
+
+_HELP = """\
+[[scene.load]]
+link = "coupler"              # crank, coupler or rocker
+distance = 8.0                # from the link's base pin (O2, A, O4)
+angle = 10.0                  # degrees CCW from the link's line
+force = [80.0, 0.0]           # frame axes, lb or N
+torque = 0.0                  # CCW +, in-lb or N m"""
+
+
 EFFECT = Effect("loads", (step_of(_loads),), _seed,
                 parts={s: s + "_l" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
                                              "foay", "fobx", "foby")} | {"torq": "TORQ_LOADS"},
-                torque="TORQ_LOADS")
+                torque="TORQ_LOADS",
+                params=(Param("loads", (), check_loads,
+                              "sequence of :class:`~sielaff.engine.loads.Load`\n"
+                              "    Forces and torques on links 2-4.", _varies, _block),),
+                outputs={"TORQ_LOADS": ("torque", "the part of TORQ the external loads take")},
+                on=lambda scene: bool(scene.loads),
+                summary=lambda scene, units: (f"{len(scene.loads)} load"
+                                              f"{'s' if len(scene.loads) > 1 else ''}"),
+                describe=_describe, spec=SpecForm(("load",), _read, _write, _HELP),
+                compiled=True)

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.statics import plus
 
 __all__ = ["Effect", "Model", "Plan", "Step", "step", "step_of", "steps_of"]
@@ -113,6 +114,18 @@ class Effect:
     provide ``total + "_0"`` (the totals without it), the effect's steps take those,
     and a derived step ``_corrections`` adds the corrections; when it is off the plan
     is the model's without it, step for step.
+
+    What the tools derive from (:mod:`sielaff.engine.declare`): ``params``, the Scene
+    fields it owns (default, check, doc); ``outputs``, ``{name: (kind, description)}``
+    for each public name its steps provide (the unit is the kind's, in the unit system
+    in force); ``on(scene)``, the one rule of whether the scene calls for it;
+    ``summary(scene, units)``, a few words (``"pin friction"``); ``describe(scene,
+    units)``, its parameters as :class:`~sielaff.engine.declare.Fact` s;
+    ``figure_outputs(scene)`` and ``figures(results, scene, units, speed)``, its
+    headline figures over one revolution at the crank speed ``speed``; ``columns(scene)``,
+    the outputs a table shows when it is on (all its outputs by default); ``spec``, its
+    form in a spec's ``[scene]``; ``compiled``, whether the compiled backend models it;
+    ``in_1966``, whether the 1966 program had it (TEX).
     """
 
     name: str
@@ -122,6 +135,17 @@ class Effect:
     torque: str | None = None
     corrects: Mapping[str, str] = field(default_factory=dict)
     switch: tuple[str, ...] = ()
+    params: tuple[Param, ...] = ()
+    outputs: Mapping[str, tuple[str, str]] = field(default_factory=dict)
+    on: Callable[[Any], bool] | None = None
+    summary: Callable[[Any, str], str] | None = None
+    describe: Callable[[Any, str], list[Fact]] | None = None
+    figure_outputs: Callable[[Any], tuple[str, ...]] | None = None
+    figures: Callable[[Mapping[str, Any], Any, str, float], list[Fact]] | None = None
+    columns: Callable[[Any], tuple[str, ...]] | None = None
+    spec: SpecForm | None = None
+    compiled: bool = False
+    in_1966: bool = False
 
     def __post_init__(self) -> None:
         if self.corrects and not self.switch:
@@ -130,6 +154,28 @@ class Effect:
         bad = sorted(set(self.parts) - set(SLOTS))
         if bad:
             raise ValueError(f"effect {self.name}: unknown slots {bad} (slots: {SLOTS})")
+        public = {n for s in self.steps for n in s.provides if n[0].isupper()}
+        missing = sorted(public - set(self.outputs))
+        if missing:
+            raise ValueError(f"effect {self.name}: outputs {missing} have no declared "
+                             "(kind, description)")
+        stray = sorted(set(self.outputs) - public)
+        if stray:
+            raise ValueError(f"effect {self.name}: declares outputs {stray} no step provides")
+        if self.params and self.on is None:
+            raise ValueError(f"effect {self.name}: an effect with parameters says when it "
+                             "is on (on=)")
+
+    def __repr__(self) -> str:
+        return f"Effect({self.name!r})"
+
+    def is_on(self, scene: Any) -> bool:
+        """Whether ``scene`` calls for this effect (its one rule)."""
+        return bool(self.on(scene)) if self.on is not None else False
+
+    def shown(self, scene: Any) -> tuple[str, ...]:
+        """The outputs a table shows when the effect is on."""
+        return self.columns(scene) if self.columns is not None else tuple(self.outputs)
 
 
 #: A plan: (step, skipped, names to drop after it), in dependency order.
@@ -148,8 +194,10 @@ class Model:
 
     def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
                  results: tuple[str, ...], sums: Mapping[str, str] | None = None,
-                 breakdown: tuple[str, str] | None = None, counts: str | None = None) -> None:
+                 breakdown: tuple[str, str] | None = None, counts: str | None = None,
+                 params: tuple[Param, ...] = ()) -> None:
         self.name = name
+        self.own_params = params
         self._seed = seed
         self.results = results
         self.sums = dict(sums or {})
@@ -175,13 +223,51 @@ class Model:
         self._derive()
         return self
 
-    def add_effect(self, effect: Effect) -> Model:
-        """Register an effect: its steps, its seed, its parts in the sums."""
+    def add_effect(self, effect: Effect | str) -> Model:
+        """Register an effect: its steps, its seed, its parts in the sums, its outputs'
+        units and meanings in :mod:`sielaff.quantities`.  A string names the module of
+        ``sielaff.engine`` whose ``EFFECT`` it is (one line registers a new one)."""
+        if isinstance(effect, str):
+            import importlib
+
+            effect = importlib.import_module(f"sielaff.engine.{effect}").EFFECT
+            assert isinstance(effect, Effect)
         if any(e.name == effect.name for e in self.effects):
             raise ValueError(f"effect {effect.name} registered twice in model {self.name}")
+        taken = {p.name for p in self.params}
+        clash = [p.name for p in effect.params if p.name in taken]
+        if clash:
+            raise ValueError(f"effect {effect.name}: Scene field {clash[0]} is another's")
+        from sielaff.quantities import declare
+
+        for out, (kind, description) in effect.outputs.items():
+            declare(out, kind, description)
         self.effects.append(effect)
         self._derive()
         return self
+
+    @property
+    def params(self) -> tuple[Param, ...]:
+        """The Scene's fields: the model's own, then each effect's, in registration order."""
+        return self.own_params + tuple(p for e in self.effects for p in e.params)
+
+    def effect(self, name: str) -> Effect:
+        """The registered effect called ``name``."""
+        for e in self.effects:
+            if e.name == name:
+                return e
+        raise KeyError(f"model {self.name} has no effect {name!r}")
+
+    def effects_on(self, scene: Any) -> tuple[Effect, ...]:
+        """The effects ``scene`` calls for, in registration order."""
+        return tuple(e for e in self.effects if e.is_on(scene))
+
+    @property
+    def torque_parts(self) -> tuple[str, ...]:
+        """The parts TORQ is the sum of: the breakdown's rest (``TORQ_INERTIA``), then
+        each effect's public share, in registration order."""
+        rest = (self.breakdown[0],) if self.breakdown else ()
+        return rest + tuple(e.torque for e in self.effects if e.torque)
 
     def replacing(self, **fns: Callable[..., Any]) -> Model:
         """A copy whose steps named in ``fns`` run the given functions instead."""
@@ -202,7 +288,7 @@ class Model:
             return dataclasses_replace(s, fn=wrap(s), zero_when=(), zero_groups=())
 
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
-                    breakdown=self.breakdown, counts=self.counts)
+                    breakdown=self.breakdown, counts=self.counts, params=self.own_params)
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]

@@ -1,121 +1,76 @@
 """The scene: everything that acts on a mechanism besides its geometry and masses.
 
-``Scene(tex=0.0, th2dd=0.0, gravity=None, loads=(), branch="open")`` is one frozen,
-validated object; ``analyze(..., scene=...)``, the design answers, sweeps and every
-command take it, and a spec's ``[scene]`` table is read into one.  The default is the
-1966 program's scene: the crank at constant speed, no gravity, no load but TEX on the
-rocker, the open branch.  Each value is checked once, here, for the API and the spec
-reader alike: a NaN, an infinity, a magnitude past :data:`LIMIT` or a wrong type is a
-ValueError naming the field.
+``Scene(tex=0.0, th2dd=0.0, gravity=None, loads=(), branch="open", friction=None,
+elements=())`` is one frozen, validated object; ``analyze(..., scene=...)``, the design
+answers, sweeps and every command take it, and a spec's ``[scene]`` table is read into
+one.  Its fields are not written here: each is declared by the effect that owns it (a
+:class:`~sielaff.engine.declare.Param` in the effect's module) or by the model (the
+branch), and :func:`scene_type` makes the dataclass from the model's declarations, so a
+new effect's field appears here with nothing else edited.  The default is the 1966
+program's scene: the crank at constant speed, no gravity, no load but TEX on the rocker,
+the open branch.  Each value is checked once, here (by its declaration's check), for the
+API and the spec reader alike: a NaN, an infinity, a magnitude past :data:`LIMIT` or a
+wrong type is a ValueError naming the field.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import dataclasses
+from dataclasses import fields
 from dataclasses import replace as dataclasses_replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from sielaff.engine.elements import Damper, Spring, check_elements
-from sielaff.engine.friction import PinFriction, check_friction
-from sielaff.engine.loads import Load
-from sielaff.engine.values import LIMIT, check_value
+from sielaff.engine.fourbar import BRANCHES, FOURBAR
+from sielaff.engine.registry import Model
+from sielaff.engine.values import LIMIT
 
-__all__ = ["BRANCHES", "LIMIT", "Scene"]
+__all__ = ["BRANCHES", "LIMIT", "Scene", "SceneBase", "scene_type"]
 
-#: The two assemblies of a four-bar: ``open`` (the 1966 program's: B above the line A-O4
-#: for the report's example) and ``crossed`` (B mirrored about that line).
-BRANCHES = ("open", "crossed")
 
-@dataclass(frozen=True)
-class Scene:
-    """What acts on the mechanism (each effect off by default, as in 1966).
+class SceneBase:
+    """What every Scene does, whatever the model's fields (see :func:`scene_type`)."""
 
-    Parameters
-    ----------
-    tex : float, array or callable
-        External torque on link 4 [in-lb or N m], CCW +; a constant, an array
-        broadcasting against the crank angles, or a function of ATH4 [deg].
-    th2dd : float, array or callable
-        The crank's angular acceleration [rad/sec^2], CCW +; TH2D is then the crank
-        speed at each position.  A constant, an array or a function of ATH2 [deg].
-    gravity : None, "down" or (gx, gy)
-        The acceleration of gravity in the frame's axes [length unit/sec^2]; ``"down"``
-        is standard gravity along -y in the mechanism's unit system.
-    loads : sequence of :class:`~sielaff.engine.loads.Load`
-        Forces and torques on links 2-4.
-    branch : {"open", "crossed"}
-        Which assembly of the loop.
-    friction : None, PinFriction or mapping
-        Coulomb friction in the pins: one :class:`~sielaff.engine.friction.PinFriction`
-        for all four, or ``{"O2": ..., "A": ..., "B": ..., "O4": ...}`` (a pin left out
-        has none).
-    elements : sequence of Spring and Damper
-        Springs and dampers between points of the links and the frame.
-    """
+    _model: Model
 
-    tex: Any = 0.0
-    th2dd: Any = 0.0
-    gravity: Any = None
-    loads: tuple[Load, ...] = ()
-    branch: str = "open"
-    friction: PinFriction | dict[str, PinFriction] | None = None
-    elements: tuple[Spring | Damper, ...] = ()
+    if TYPE_CHECKING:  # the fields are the model's declarations, made at import
+        def __init__(self, **fields: Any) -> None: ...
+
+        def __getattr__(self, name: str) -> Any: ...
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "tex", _value("tex", self.tex))
-        object.__setattr__(self, "th2dd", _value("th2dd", self.th2dd))
-        object.__setattr__(self, "gravity", _gravity(self.gravity))
-        if isinstance(self.loads, Load | str | bytes) or not _iterable(self.loads):
-            raise ValueError(f"Scene.loads = {self.loads!r}: a sequence of sielaff.Load")
-        loads = tuple(self.loads)
-        for i, load in enumerate(loads):
-            if not isinstance(load, Load):
-                raise ValueError(f"Scene.loads[{i}] = {load!r} is not a sielaff.Load")
-        object.__setattr__(self, "loads", loads)
-        if self.branch not in BRANCHES:
-            raise ValueError(f"Scene.branch = {self.branch!r}: 'open' (the 1966 program's) "
-                             "or 'crossed'")
-        object.__setattr__(self, "friction", check_friction(self.friction))
-        object.__setattr__(self, "elements", check_elements(self.elements))
+        for p in self._model.params:
+            object.__setattr__(self, p.name, p.check(getattr(self, p.name)))
 
-    def replace(self, **changes: Any) -> Scene:
+    def replace(self, **changes: Any) -> Any:
         """A copy with some fields changed (validated again)."""
-        unknown = sorted(set(changes) - {f.name for f in fields(self)})
+        unknown = sorted(set(changes) - {f.name for f in fields(self)})  # type: ignore[arg-type]
         if unknown:
             raise TypeError(f"Scene has no field {', '.join(unknown)}")
-        return dataclasses_replace(self, **changes)
+        return dataclasses_replace(self, **changes)  # type: ignore[type-var]
+
+    @property
+    def effects(self) -> tuple[Any, ...]:
+        """The model's effects this scene calls for (each effect's own rule)."""
+        return self._model.effects_on(self)
 
     @property
     def is_1966(self) -> bool:
         """Whether this is the 1966 program's scene (TEX aside): no effect is on."""
-        return (not callable(self.th2dd) and not np.any(self.th2dd)
-                and self.gravity is None and not self.loads and not self.has_friction
-                and not self.elements)
+        return not any(not e.in_1966 for e in self.effects)
 
     @property
     def has_friction(self) -> bool:
-        """Whether some pin has friction (mu r > 0)."""
-        f = self.friction
-        pins = [] if f is None else [f] if isinstance(f, PinFriction) else list(f.values())
-        return any(p.mu * p.radius > 0.0 for p in pins)
+        """Whether some pin has friction (mu r > 0): the friction effect's rule."""
+        return self._model.effect("pin friction").is_on(self)
 
     def per_position(self) -> list[tuple[str, Any]]:
         """The (field, array) pairs that vary with the crank angle (arrays of ndim > 0)."""
-        out: list[tuple[str, Any]] = []
-        for name in ("tex", "th2dd"):
-            v = getattr(self, name)
-            if not callable(v) and np.ndim(v):
-                out.append((name, v))
-        for i, load in enumerate(self.loads):
-            for name in ("r", "angle", "fx", "fy", "torque"):
-                v = getattr(load, name)
-                if not callable(v) and np.ndim(v):
-                    out.append((f"loads[{i}].{name}", v))
-        return out
+        return [pair for p in self._model.params if p.varies is not None
+                for pair in p.varies(getattr(self, p.name))]
 
-    def block(self, i: int, j: int, shape: tuple[int, ...]) -> Scene:
+    def block(self, i: int, j: int, shape: tuple[int, ...]) -> Any:
         """The scene of positions ``i:j`` of crank angles of ``shape`` (flattened): every
         array of that shape sliced alike (``analyze(..., out=)`` works a block at a time)."""
         def part(name: str, v: Any) -> Any:
@@ -127,42 +82,29 @@ class Scene:
                                  f"array of ath2's shape {shape}, not {a.shape}")
             return a.reshape(-1)[i:j]
 
-        loads = tuple(dataclasses_replace(load, **{n: part(f"loads[{k}].{n}", getattr(load, n))
-                                                   for n in ("r", "angle", "fx", "fy",
-                                                             "torque")})
-                      for k, load in enumerate(self.loads))
-        return dataclasses_replace(self, tex=part("tex", self.tex),
-                                   th2dd=part("th2dd", self.th2dd), loads=loads)
+        return dataclasses_replace(self, **{  # type: ignore[type-var]
+            p.name: p.block(getattr(self, p.name), part)
+            for p in self._model.params if p.block is not None})
 
 
-def _iterable(v: Any) -> bool:
-    try:
-        iter(v)
-    except TypeError:
-        return False
-    return True
+def scene_type(model: Model) -> type[SceneBase]:
+    """The frozen dataclass of ``model``'s scene: one field per declared parameter (the
+    model's own, then each effect's), its default and its check the declaration's, and a
+    numpydoc ``Parameters`` section made of their docs."""
+    doc = ("What acts on the mechanism (each effect off by default, as in 1966).\n\n"
+           "Parameters\n----------\n"
+           + "".join(f"{p.name} : {p.doc}\n" for p in model.params))
+    cls = dataclasses.make_dataclass(
+        "Scene", [(p.name, Any, dataclasses.field(default=p.default)) for p in model.params],
+        bases=(SceneBase,), frozen=True, namespace={"_model": model, "__doc__": doc})
+    cls.__module__ = __name__
+    return cls
 
 
-def _value(name: str, v: Any) -> Any:
-    """A callable as it is; a number or an array checked finite and within LIMIT."""
-    if callable(v):
-        return v
-    return check_value(f"Scene.{name}", v)
-
-
-def _gravity(g: Any) -> Any:
-    if g is None or (isinstance(g, str) and g == "down"):
-        return g
-    try:
-        gx, gy = (float(x) for x in g)
-    except (TypeError, ValueError):
-        raise ValueError(f"Scene.gravity = {g!r}: give None, 'down', or the vector (gx, gy) "
-                         "in the mechanism's length unit per sec^2") from None
-    for axis, x in (("gx", gx), ("gy", gy)):
-        if not (abs(x) <= LIMIT):
-            raise ValueError(f"Scene.gravity {axis} = {x!r}: not a finite acceleration "
-                             f"within {LIMIT:g}")
-    return (gx, gy)
+if TYPE_CHECKING:
+    Scene = SceneBase
+else:
+    Scene = scene_type(FOURBAR)
 
 
 #: The keyword arguments ``analyze`` still takes, each building the same Scene field.
@@ -174,11 +116,10 @@ def scene_from(scene: Scene | None, given: dict[str, Any],
     """The Scene of a call: ``scene``, or one built from the keywords ``given``; both at
     once is a ValueError naming them."""
     if scene is not None:
-        if not isinstance(scene, Scene):
+        if not isinstance(scene, SceneBase):
             raise ValueError(f"{where}: scene = {scene!r} is not a sielaff.Scene")
         if given:
             raise ValueError(f"{where}: give scene= or {', '.join(sorted(given))}, not both "
                              "(put them in the Scene)")
         return scene
     return Scene(**given)
-

@@ -10,6 +10,9 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
+from sielaff.engine.declare import Fact, SpecForm, number_param
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import call_checked
@@ -34,5 +37,48 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     return {"tex_fn": v} if callable(v) else {"TEX": v}
 
 
+def _on(scene: Any) -> bool:
+    return callable(scene.tex) or bool(np.any(np.asarray(scene.tex) != 0.0))
+
+
+def _summary(scene: Any, units: str) -> str:
+    from sielaff.quantities import unit
+
+    v = scene.tex
+    if callable(v):
+        return "TEX a function of THETA 4"
+    if np.ndim(v):
+        return "TEX varying with THETA 2"
+    return f"TEX = {v:g} {unit('TEX', units)}"
+
+
+def _describe(scene: Any, units: str) -> list[Fact]:
+    v = scene.tex
+    if callable(v) or np.ndim(v):
+        return [Fact("", "TEX", _summary(scene, units).removeprefix("TEX "))]
+    return [Fact("", "TEX, torque on link 4 (CCW +)", float(v), "torque")]
+
+
+def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+    return {"tex": reader.number(f"{path}: [scene] tex", table["tex"])} if "tex" in table else {}
+
+
+def _write(scene: Any) -> dict[str, Any]:
+    v = scene.tex
+    return {"tex": float(v)} if not callable(v) and not np.ndim(v) and v else {}
+
+
 EFFECT = Effect("TEX", (step_of(_external_torque), step_of(_torque_for_tex)), _seed,
-                torque="TORQ_TEX")
+                torque="TORQ_TEX",
+                params=(number_param("tex", "float, array or callable\n"
+                                     "    External torque on link 4 [in-lb or N m], CCW +; a "
+                                     "constant, an array broadcasting\n    against the crank "
+                                     "angles, or a function of ATH4 [deg]."),),
+                outputs={"TEX": ("torque", "external torque on link 4, CCW + (0 in the 1966 "
+                                           "program)"),
+                         "TORQ_TEX": ("torque", "the part of TORQ the torque TEX on link 4 "
+                                                "takes")},
+                on=_on, summary=_summary, describe=_describe, columns=lambda s: ("TORQ_TEX",),
+                spec=SpecForm(("tex",), _read, _write,
+                              "tex = 0.0                     # torque on the rocker, CCW +"),
+                compiled=True, in_1966=True)

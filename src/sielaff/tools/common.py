@@ -592,29 +592,10 @@ def work_text(work: float, abs_work: float, units: str = "in-lb-sec") -> str:
 
 def describe_scene(scene: Scene | None, units: str = "in-lb-sec") -> str:
     """The effects a scene turns on, in words ("gravity, TH2DD = -40 rad/sec^2, 1 load"),
-    or "" for the 1966 scene."""
-    from sielaff.quantities import unit
-
+    or "" for the 1966 scene: each effect's own summary, in the model's order."""
     if scene is None:
         return ""
-    effects = []
-    if scene.gravity is not None:
-        effects.append("gravity")
-    if callable(scene.th2dd) or scene.th2dd:
-        effects.append("TH2DD a function of THETA 2" if callable(scene.th2dd) else
-                       f"TH2DD = {scene.th2dd:g} {unit('TH3DD', units)}")
-    if scene.loads:
-        n = len(scene.loads)
-        effects.append(f"{n} load{'s' if n > 1 else ''}")
-    if callable(scene.tex) or scene.tex:
-        effects.append("TEX a function of THETA 4" if callable(scene.tex) else
-                       f"TEX = {scene.tex:g} {unit('TEX', units)}")
-    if scene.has_friction:
-        effects.append("pin friction")
-    for kind in ("spring", "damper"):
-        n = sum(type(e).__name__.lower() == kind for e in scene.elements)
-        if n:
-            effects.append(f"{n} {kind}{'s' if n > 1 else ''}")
+    effects = [e.summary(scene, units) if e.summary else e.name for e in scene.effects]
     if scene.branch != "open":
         effects.append(f"the {scene.branch} branch")
     return ", ".join(effects)

@@ -31,11 +31,16 @@ Columns
     rad/sec and rad/sec^2, lengths in inches, forces in lb, torques in in-lb.
     TEX is 0, as in the 1966 program.
 
-    After them come the parts of TORQ the spec's scene has (docs/effects.md):
-    ``TORQ_GRAVITY`` with gravity, ``TORQ_LOADS`` with external loads,
-    ``TORQ_TEX`` with a torque TEX on link 4; ``--torque-parts`` adds all of
-    TORQ_INERTIA, TORQ_GRAVITY, TORQ_LOADS and TORQ_TEX whatever the scene (a
-    part the scene lacks is 0), in the torque unit of the spec's system.
+    After them come the outputs of each effect the spec's scene calls for
+    (docs/effects.md; each effect declares which): ``TORQ_GRAVITY`` with gravity,
+    ``TORQ_LOADS`` with external loads, ``TORQ_TEX`` with a torque TEX on link 4,
+    ``TH2DD`` with a crank acceleration, ``TORQ_ELEMENTS`` and each spring's or
+    damper's ``SPRINGk_L``, ``_LD``, ``_F`` with springs and dampers,
+    ``TORQ_FRICTION``, each pin's friction loss ``PLOSS_O2`` ... ``PLOSS_O4`` and
+    ``FRICTION_STATUS`` with pin friction.  ``--torque-parts`` puts first every part
+    of TORQ (TORQ_INERTIA and each effect's share, whatever the scene: a part the
+    scene lacks is 0); they sum to TORQ to roundoff.  Every column carries its unit
+    in the spec's system.
 
 Formats
     ``csv`` (default): a header row of the column names with their units,
@@ -81,7 +86,7 @@ from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
 
 __all__ = ["BLOCK", "CHUNK", "FORMATS", "columns", "count", "angles",
-           "header", "write_table", "cmd_table"]
+           "header", "torque_parts", "write_table", "cmd_table"]
 
 #: Positions per engine call.
 BLOCK = 100_000
@@ -90,26 +95,26 @@ CHUNK = 10_000
 FORMATS = ("csv", "json")
 
 
-#: The parts of TORQ a table can add (docs/effects.md), in this order.
-TORQUE_PARTS = ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")
-
-
-def _has_tex(scene: Scene) -> bool:
-    return callable(scene.tex) or bool(np.any(np.asarray(scene.tex) != 0.0))
+def torque_parts() -> tuple[str, ...]:
+    """The parts TORQ is the sum of (the model's: TORQ_INERTIA, then each effect's share,
+    docs/effects.md), in this order."""
+    return engine.FOURBAR.torque_parts
 
 
 def columns(kinematics_only: bool = False, scene: Scene | None = None,
             torque_parts: bool = False) -> tuple[str, ...]:
-    """The table's column names, in order: CARD, the engine's results, then the parts of
-    TORQ the ``scene`` has (TORQ_GRAVITY with gravity, TORQ_LOADS with loads, TORQ_TEX
-    with a TEX), or all of :data:`TORQUE_PARTS` with ``torque_parts``."""
+    """The table's column names, in order: CARD, the engine's results, then each effect
+    the ``scene`` calls for shows its outputs (its declaration's ``columns``: TORQ_GRAVITY
+    with gravity, TORQ_FRICTION and each pin's PLOSS with friction, ...); with
+    ``torque_parts`` every part of TORQ (:func:`torque_parts`, a part the scene lacks
+    is 0) comes first."""
     if kinematics_only:
         return ("CARD",) + engine.KINEMATIC_OUTPUTS
     sc = scene or Scene()
-    has = {"TORQ_INERTIA": False, "TORQ_GRAVITY": sc.gravity is not None,
-           "TORQ_LOADS": bool(sc.loads), "TORQ_TEX": _has_tex(sc)}
-    return ("CARD",) + engine.RESULTS + tuple(n for n in TORQUE_PARTS
-                                              if torque_parts or has[n])
+    extra: list[str] = list(engine.FOURBAR.torque_parts) if torque_parts else []
+    for effect in engine.FOURBAR.effects_on(sc):
+        extra += [n for n in effect.shown(sc) if n not in engine.RESULTS]
+    return ("CARD",) + engine.RESULTS + tuple(dict.fromkeys(extra))
 
 
 # --------------------------------------------------------------------------
