@@ -430,6 +430,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
         f'<p class="sub">A {html.escape(c.kind)} in {html.escape(m.units)} units; '
         f"scene: {html.escape(effects)}.</p>",
     ]
+    parts += scene_section(m, scene, bool(c.turns_fully))
     plt = _pyplot()
     # the linkage, drawn and animated
     parts.append("<h2>The linkage</h2>")
@@ -470,6 +471,26 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
     if tolerances is not None:
         parts += tolerance_section(deck, scene, tolerances)
     return _page(parts, command)
+
+
+def scene_section(m: Any, scene: Scene, figures: bool) -> list[str]:
+    """The scene's effects as each declares itself (its parameters with their units, its
+    figures over a revolution when the crank turns fully): check's lines, as a table."""
+    from sielaff.design.effects import effect_facts
+    from sielaff.engine.declare import fact_lines
+
+    facts = effect_facts(m, scene, figures=figures)
+    if not facts:
+        return []
+    rows = []
+    for f in facts:
+        lines = fact_lines(f.parameters, m.units, "") + fact_lines(f.figures, m.units, "")
+        rows.append(f"<tr><th>{html.escape(f.name)}</th><td>{html.escape(f.summary)}</td>"
+                    f"<td>{'<br>'.join(html.escape(x) for x in lines)}</td></tr>")
+    return ["<h2>The scene</h2>",
+            "<table><tr><th>effect</th><th>in brief</th><th>its parameters and figures"
+            + (" (over one revolution)" if figures else "") + "</th></tr>",
+            *rows, "</table>"]
 
 
 def _spec_tables(path: str) -> set[str]:

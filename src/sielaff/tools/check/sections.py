@@ -1,41 +1,7 @@
-"""``sielaff check DECK``: what a designer needs to know about a deck before using it.
+"""The sections of ``sielaff check``'s report, in the order they print: the deck, the
+linkage, the scene's effects, one revolution, the design answers, the 1966 quirks, and
+the kind of a linkage that is not a crank-rocker."""
 
-The report (stdout) has four parts:
-
-Deck
-    Every value as punched, with its unit and meaning, and for each range
-    card the sheets the 1966 listing will print.
-Linkage
-    The Grashof sum (s + l against p + q, with its margin), which link is
-    the shortest and so what kind of four-bar it is, and the report's five
-    crank-rocker conditions (statements 45-51) each with its margin.
-One revolution (modern engine, TEX = 0)
-    Transmission angle extremes (closed form: they lie at THETA 2 = 0 and
-    180) and the closest approach to toggle; the peak bearing loads F 2 ON 1
-    (FOA), F 4 ON 1 (FOB), F 3 ON 2 (FA32) and F 3 ON 4 (FB34) (design.bearings'
-    peaks, the same numbers the bearings section prints), the peak driving
-    torque either way, the peak shaking force and its largest X and Y
-    components, all found on a grid and refined to 0.001 degree; and the
-    cycle work, the integral of TORQ over one revolution (trapezoid rule
-    on the 0.1-degree grid), which is zero for TEX = 0 since the crank turns
-    at constant speed.
-1966 quirks
-    Every quirk of docs/quirks.md this deck triggers in ``sielaff run``.  The
-    sheets a range card prints, and so the trailing sheet past THMAX, the
-    two sheets of THZERO = THMAX, the angles past 360 (Case II) or below 0
-    (Case I) and an endless range, are predicted from the range cards with
-    the port's own float64 arithmetic (THETA 2 = (THZERO - DELTA) + I*DELTA),
-    so a deck of a million sheets is checked at once.  The TAN3/TAN4
-    stand-in, SQRT of a negative argument, and a 1966 arithmetic that fails
-    can only be seen by running the port: it is run (without printing) on
-    the first ``SHEET_LIMIT`` sheets.
-
-Exit status: 0 usable, 2 unusable (a deck that does not read, an endless
-range, 1966 arithmetic that fails), 3 not a crank-rocker; the reason is one
-line on stderr.
-
-The module reads better whole: the report's sections follow in the order they print.
-"""
 
 from __future__ import annotations
 
@@ -53,15 +19,8 @@ from sielaff.engine.derived import GRID_STEP, cycle_work, revolution
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism, crank_rocker_failure
 from sielaff.quantities import fmt, unit, unit_of
+from sielaff.tools.check.sheets import RangeSheets, _plain, num
 from sielaff.tools.common import describe_scene, work_text
-
-__all__ = [
-    "SHEET_LIMIT", "CheckReport", "RangeSheets", "check_deck",
-    "range_sheets", "revolution",
-]
-
-from sielaff.tools.common import EXIT_DECK as EXIT_UNUSABLE  # noqa: E402
-from sielaff.tools.common import EXIT_NOT_CRANK_ROCKER  # noqa: E402
 
 EXIT_OK = 0
 #: Range cards reported one by one; the rest are counted.
@@ -107,87 +66,6 @@ BEARINGS = (
 )
 
 
-def num(value: float | Decimal) -> str:
-    """A deck value as the report prints it: shortest exact form."""
-    if isinstance(value, Decimal):
-        if value == 0:
-            return "0.0"
-        text = f"{value.normalize():f}"
-        if len(text) > 16:
-            return f"{float(value):.10g}"
-        return text if "." in text else text + ".0"
-    return f"{value:.10g}" if "e" in f"{value:.10g}" else _plain(value)
-
-
-def _plain(value: float) -> str:
-    text = f"{value:.10g}"
-    return text if "." in text else text + ".0"
-
-
-# --------------------------------------------------------------------------
-# What the 1966 loop does with a range card
-# --------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class RangeSheets:
-    """The sheets the 1966 loop prints for one range card (float64 arithmetic).
-
-    ``count`` is None for an endless range.  ``past_360``/``below_0`` are
-    (number of sheets, first THETA 2, last THETA 2) or None.
-    """
-
-    thzero: float
-    delta: float
-    thmax: float
-    count: int | None
-    first: float | None = None
-    last: float | None = None
-    past_360: tuple[int, float, float] | None = None
-    below_0: tuple[int, float, float] | None = None
-
-
-def _angle(th: float, delta: float, i: int) -> float:
-    """THETA 2 of sheet ``i`` (1-based): ``ATH2 = TH + ZZZ*DELTA``, as the port does it."""
-    return th + float(i) * delta
-
-
-def _first(pred, lo: int, hi: int) -> int:
-    """The smallest i in [lo, hi] with pred(i) true, pred monotone; hi + 1 if none."""
-    while lo <= hi:
-        mid = (lo + hi) // 2
-        if pred(mid):
-            hi = mid - 1
-        else:
-            lo = mid + 1
-    return lo
-
-
-def range_sheets(thzero: float, delta: float, thmax: float) -> RangeSheets:
-    """Predict the sheets of one range card without running the loop."""
-    from sielaff.emulator.ranges import sheet_count
-
-    th = thzero - delta
-    n = sheet_count(thzero, delta, thmax)  # the port's own float64 loop, counted
-    if n is None:
-        return RangeSheets(thzero, delta, thmax, None)
-    first, last = _angle(th, delta, 1), _angle(th, delta, n)
-    past = below = None
-    if delta > 0.0:
-        k = _first(lambda i: _angle(th, delta, i) > 360.0, 1, n)
-        if k <= n:
-            past = (n - k + 1, _angle(th, delta, k), last)
-        k = _first(lambda i: not _angle(th, delta, i) < 0.0, 1, n)
-        if k > 1:
-            below = (k - 1, first, _angle(th, delta, k - 1))
-    else:
-        if first > 360.0:
-            past = (1, first, first)
-        if first < 0.0:
-            below = (1, first, first)
-    return RangeSheets(thzero, delta, thmax, n, first, last, past, below)
-
-
 # --------------------------------------------------------------------------
 # One revolution with the modern engine
 # --------------------------------------------------------------------------
@@ -225,6 +103,8 @@ class CheckReport:
     revolution: bool = False
     #: design.bearings' pins the report printed (the JSON gives the same numbers).
     pins: dict | None = None
+    #: The scene's effects the report printed (design.effects: the JSON's "effects").
+    effects: list = field(default_factory=list)
 
     def add(self, text: str = "") -> None:
         self.lines.append(text)
@@ -333,6 +213,25 @@ def _linkage_section(m: Mechanism, rep: CheckReport, exact: dict | None = None) 
 
 def _clamp(x: float) -> float:
     return min(1.0, max(-1.0, x))
+
+
+def _scene_section(m: Mechanism, rep: CheckReport, scene: Scene, figures: bool) -> None:
+    """Each effect the scene calls for: its parameters with their units and (``figures``:
+    the crank turns fully) its headline figures over a revolution, as the effect itself
+    declares them (design.effects)."""
+    from sielaff.design.effects import effect_facts, effects_lines
+
+    facts = effect_facts(m, scene, figures=figures)
+    if not facts:
+        return
+    rep.effects = facts
+    rep.add("Scene (the effects the spec's [scene] calls for; docs/effects.md)")
+    if figures:
+        rep.add(f"  figures over one revolution at TH2D = {fmt(abs(m.TH2D), 'rate', m.units)}: "
+                "mean powers, and the work of one revolution")
+    for line in effects_lines(facts, m.units):
+        rep.add(line)
+    rep.add()
 
 
 def _revolution_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None,
@@ -589,253 +488,3 @@ def _kind_section(m: Mechanism, rep: CheckReport, scene: Scene | None = None) ->
                 "(0 or 180 at a toggle)")
     rep.add("  loads: a crank kept at constant speed drives link 4 into each toggle, where the "
             "rates and loads grow without bound; sielaff table and plot show them over the arcs")
-
-
-def check_deck(deck: Deck, sheet_limit: int = SHEET_LIMIT,
-               scene: Scene | None = None, crank_rocker: bool = False,
-               bearing_threshold: float | None = None) -> CheckReport:
-    """The report for ``deck`` (see the module doc).  A usable linkage of another kind
-    gets its kind's report and status 0, unless ``crank_rocker`` requires one (3).
-    ``bearing_threshold``: design.bearings' threshold (its default when None)."""
-    from sielaff.design.bearings import THRESHOLD
-
-    if bearing_threshold is None:
-        bearing_threshold = THRESHOLD
-    from sielaff.tools.common import mechanism_problem, results_problem
-
-    rep = CheckReport()
-    rep.add(f"sielaff check: {deck.path}")
-    rep.add()
-    # Range cards in detail up to DETAIL_CARDS; past that only counted (flat memory, and a
-    # million-card deck is checked in seconds).
-    sheets = [range_sheets(*r) for r in deck.ranges[:DETAIL_CARDS]]
-    _deck_section(deck, rep, sheets)
-    rep.add()
-    problem = mechanism_problem(deck)
-    if problem is not None and problem.status == EXIT_UNUSABLE:
-        rep.status, rep.error = problem.status, str(problem)
-        rep.add(f"Verdict: unusable: {str(problem).split(': ', 1)[1]} (exit 2)")
-        return rep
-    failure = _linkage_section(deck.mechanism, rep, deck.exact)
-    rep.add()
-    overflow = None
-    other = failure is not None and not crank_rocker and linkage_class(deck.mechanism).arcs
-    # a change point turns fully but folds flat on the way: worked like the kinds that do
-    # not turn (no revolution's peaks: the rates jump and grow without bound there)
-    whole = bool(linkage_class(deck.mechanism).turns_fully) and (
-        linkage_class(deck.mechanism).kind != "change-point")
-    if other and not whole:
-        _kind_section(deck.mechanism, rep, scene)
-        rep.add()
-    if failure is None or (other and whole):
-        overflow = results_problem(deck, None, scene)
-        if overflow is None:
-            from sielaff.design import bearings
-
-            pins = bearings(deck.mechanism, scene=scene, threshold=bearing_threshold)
-            _revolution_section(deck.mechanism, rep, scene, pins)
-            _design_section(deck.mechanism, rep, scene, pins)
-            rep.revolution, rep.pins = True, pins
-            rep.add()
-    reason = _quirk_section(deck, sheets, rep, sheet_limit)
-    rep.add()
-    if other and overflow is None:
-        kind = linkage_class(deck.mechanism).kind
-        rep.add(f"Verdict: usable as a {kind} in the modern tools (check, table, plot, balance, "
-                "sweep); not a crank-rocker, so sielaff run stops at statement 52 as the 1966 "
-                "program does (exit 3 there, and here with --crank-rocker)")
-    elif failure is not None and not other and not crank_rocker:
-        rep.status = EXIT_UNUSABLE
-        rep.error = f"{deck.path}: card 3: the loop never closes: no crank angle assembles it"
-        rep.add("Verdict: unusable: no crank angle assembles this linkage (exit 2)")
-    elif failure is not None:
-        rep.status = EXIT_NOT_CRANK_ROCKER
-        rep.error = str(problem)
-        if _program_test_passes(deck.mechanism):
-            rep.add("Verdict: not a crank-rocker (exit 3), although the 1966 program's own "
-                    "test passes by roundoff: sielaff run prints sheets whose forces near the "
-                    "toggle are meaningless")
-        else:
-            rep.add("Verdict: not a crank-rocker; the 1966 program stops at statement 52 "
-                    "(exit 3)")
-    elif reason is not None or overflow is not None:
-        rep.status = EXIT_UNUSABLE
-        rep.error = reason or str(overflow)
-        rep.add("Verdict: unusable: sielaff run cannot complete this deck (exit 2)")
-    else:
-        traps = sum("no decimal point: read as" in w for w in deck.warnings)
-        if traps:
-            rep.add(f"Verdict: usable as read, but {traps} field{'s' if traps > 1 else ''} "
-                    "without a decimal point read with 4 implied decimals (warnings above): "
-                    "make sure that was meant")
-        else:
-            rep.add("Verdict: usable")
-    return rep
-
-
-def _program_test_passes(m: Mechanism) -> bool:
-    """The 1966 test of statements 45-51 as the float64 port evaluates it."""
-    from sielaff.emulator.program import first_failed_test
-
-    return first_failed_test(m.R3 / m.R2, m.R4 / m.R2, m.R1 / m.R2, abs) is None
-
-
-def cmd_check(args) -> int:
-    """``sielaff check DECK``: the report on stdout, the reason for a non-zero exit on stderr."""
-    import sys
-
-    from sielaff.tools.common import (
-        CommandError,
-        input_exists,
-        is_spec,
-        read_input_deck,
-        read_spec_deck,
-        refuse_bad_output,
-        write_stdout,
-    )
-
-    output = getattr(args, "output", None)
-    refuse_bad_output(output, [args.deck])  # before any work
-    if not input_exists(args.deck):
-        raise CommandError(f"{args.deck}: no such deck")
-    if is_spec(args.deck):  # a spec: its deck, and its scene for the engine
-        deck, scene = read_spec_deck(args.deck)
-    else:
-        deck, scene = read_input_deck(args.deck), Scene()
-    if getattr(args, "branch", None):
-        import dataclasses
-
-        scene = dataclasses.replace(scene, branch=args.branch)
-    rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False),
-                     bearing_threshold=getattr(args, "bearing_threshold", None))
-    text = (rep.text if getattr(args, "format", "text") == "text"
-            else report_json(deck, rep, scene))
-    if output not in (None, "-"):
-        from sielaff.tools.output import atomic_output
-
-        with atomic_output(output) as out:
-            out.write(text)
-    else:
-        write_stdout(text)  # a closed pipe keeps the status and the error line
-    if rep.error:
-        print(rep.error, file=sys.stderr)
-    return rep.status
-
-
-def report_json(deck: Deck, rep: CheckReport, scene: Scene | None = None) -> str:
-    """The report as JSON, the same facts as the text: the linkage's kind and what decides
-    it, the toggles, arcs and limit positions, the transmission angle, the peak loads and
-    torques with their angles, the cycle work, the flywheel and bearings, the verdict, the
-    status and error, and the report's lines.  A number is ``{"value": x, "unit": "lb"}``
-    (angles in degrees, ``"deg"``), the unit the mechanism's unit system gives it."""
-    import json
-
-    m = deck.mechanism
-    scene = scene or Scene()
-    try:
-        with np.errstate(all="ignore"):
-            c = linkage_class(m)
-    except (ValueError, ArithmeticError):  # fields no linkage has: the report says why
-        c = None
-
-    def finite(values) -> list[float]:
-        return [float(v) for v in np.ravel(values) if np.isfinite(v)]
-
-    system = getattr(m, "units", "in-lb-sec")
-    length = unit_of("length", system)
-    data: dict = {"path": str(deck.path), "units": system, "length_unit": length,
-                  "lengths": {n: _q(getattr(m, n), length) for n in ("R1", "R2", "R3", "R4")}}
-    if c is not None and rep.status != EXIT_UNUSABLE:
-        data.update({
-            "kind": c.kind, "grashof_sum": float(c.grashof_sum),
-            "grashof_margin": float(c.grashof_margin), "turns_fully": bool(c.turns_fully),
-            "toggles_deg": finite(c.toggles),
-            "arcs_deg": [[float(a), float(b)] for a, b in (c.arcs or [])],
-            "grashof": {"sum": _q(c.grashof_sum, length),
-                        "margin": _q(c.grashof_margin, length)},
-            "crank_rocker_failure": crank_rocker_failure(m, deck.exact)})
-        if not c.turns_fully and c.arcs:
-            data["limit_positions"] = _limit_positions(m, finite(c.toggles), scene)
-    if rep.revolution:
-        data.update(_revolution_facts(m, scene, rep.pins))
-    verdict = next((line for line in reversed(rep.lines) if line.startswith("Verdict: ")), "")
-    data.update({"verdict": verdict.removeprefix("Verdict: "), "status": rep.status,
-                 "error": rep.error, "report": rep.lines})
-    return json.dumps(data, indent=1) + "\n"
-
-
-def _q(value: float, unit_text: str) -> dict:
-    """A number with its unit for the JSON report (None for a value that is not finite)."""
-    value = float(value)
-    return {"value": value if math.isfinite(value) else None, "unit": unit_text}
-
-
-def _limit_positions(m: Mechanism, toggles: list[float], scene: Scene) -> list[dict]:
-    """THETA 3 and THETA 4 at each toggle, as the kind section prints them."""
-    import warnings
-
-    from sielaff.engine import analyze
-    from sielaff.engine.analysis import AssemblyWarning
-
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore", AssemblyWarning)
-        r = analyze(m, np.array(toggles), ["ATH3", "ATH4"], scene=scene)
-    return [{"THETA 2": _q(t, "deg"), "THETA 3": _q(a, "deg"), "THETA 4": _q(b, "deg")}
-            for t, a, b in zip(toggles, r["ATH3"], r["ATH4"])]
-
-
-def _revolution_facts(m: Mechanism, scene: Scene, pins: dict | None = None) -> dict:
-    """The revolution section's facts (the same computations: :func:`_extreme`,
-    :func:`cycle_work`, the flywheel, and the text's :func:`sielaff.design.bearings`
-    ``pins``, whose peaks are the peak loads)."""
-    from sielaff.design import bearings, flywheel
-    from sielaff.engine import analyze
-
-    pins = pins if pins is not None else bearings(m, scene=scene)
-    by_force = {pin.force: pin for pin in pins.values()}
-
-    system = m.units
-    deg = "deg"
-    k = 2.0 * m.R3 * m.R4
-    g_min = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 - m.R2) ** 2) / k)))
-    g_max = math.degrees(math.acos(_clamp((m.R3**2 + m.R4**2 - (m.R1 + m.R2) ** 2) / k)))
-    peaks = {}
-    for name, heading, where in BEARINGS:
-        at, value = by_force[name].at, by_force[name].peak
-        direction = float(analyze(m, at, ["D" + name], scene=scene)["D" + name])
-        peaks[name] = {"heading": heading, "pin": where, "peak": _q(value, unit(name, system)),
-                       "theta2": _q(at, deg), "direction": _q(direction, deg)}
-    torque = unit("TORQ", system)
-    at_max, t_max = _extreme(m, "TORQ", scene=scene)
-    at_min, t_min = _extreme(m, "TORQ", -1.0, scene=scene)
-    force = unit("SHAK", system)
-    at_shak, shak = _extreme(m, "SHAK", scene=scene)
-    components = {f"{name}_{end}": _q(_extreme(m, name, sign, scene=scene)[1], force)
-                  for name in ("SHAKX", "SHAKY") for end, sign in (("max", 1.0), ("min", -1.0))}
-    work, abs_work = cycle_work(m, scene=scene)
-    facts: dict = {
-        "transmission_angle": {"min": _q(g_min, deg), "min_at_theta2": _q(0.0, deg),
-                               "max": _q(g_max, deg), "max_at_theta2": _q(180.0, deg)},
-        "peak_loads": peaks,
-        "torque": {"max": _q(t_max, torque), "max_at_theta2": _q(at_max, deg),
-                   "min": _q(t_min, torque), "min_at_theta2": _q(at_min, deg),
-                   "peak_power": _q(max(abs(t_max), abs(t_min)) * abs(m.TH2D),
-                                    unit_of("power", system))},
-        "cycle_work": {"work": _q(work, unit_of("work", system)),
-                       "abs_integral": _q(abs_work, unit_of("work", system)),
-                       "text": work_text(work, abs_work, system)},
-        "shaking_force": {"peak": _q(shak, force), "peak_at_theta2": _q(at_shak, deg),
-                          **components},
-    }
-    if m.TH2D != 0.0 and not callable(scene.th2dd) and not np.any(scene.th2dd):
-        fw = flywheel(m, scene=scene)
-        facts["flywheel"] = {"cf": fw.cf, "energy": _q(fw.energy, unit_of("work", system)),
-                             "inertia": _q(fw.inertia, unit("ZI2", system))}
-    facts["bearings"] = [
-        {"pin": pin.name, "force": pin.force, "peak": _q(pin.peak, force),
-         "at_theta2": _q(pin.at, deg),
-         "members": [{"member": mb.name, "never_loaded_deg": [[float(a), float(b)]
-                                                              for a, b in mb.unloaded],
-                      "reversals": int(mb.reversals)} for mb in pin.members]}
-        for pin in pins.values()]
-    return facts
