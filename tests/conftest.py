@@ -83,9 +83,11 @@ def pytest_configure(config):
 #: Only the order changes; a file not listed keeps its place after these.
 LONGEST_FIRST = ("test_compiled.py", "test_ibm1410.py", "test_report.py", "test_simulate.py",
                  "test_fortran.py", "test_procs.py", "test_synthesis.py", "test_units.py",
-                 "test_robust3_tools.py", "test_unix.py", "test_scene.py", "test_punch.py",
-                 "test_effects.py", "test_classify.py", "test_simulate_friction.py",
-                 "test_robust3_interp.py", "test_issue22_defects.py", "test_robust.py")
+                 "test_spec_sweep_and_output_failures.py", "test_unix.py", "test_scene.py",
+                 "test_punch.py", "test_effects.py", "test_classify.py",
+                 "test_simulate_friction.py", "test_interpreter_and_reader_limits.py",
+                 "test_design_answers_in_the_tools.py", "test_run_failures.py",
+                 "test_effect_declarations.py")
 
 
 def pytest_collection_modifyitems(session, config, items):

@@ -73,7 +73,8 @@ def _points(n: int, seed: int) -> np.ndarray:
 def _numba_helpers():
     """_sincos and _atan2 compiled by numba with the kernel's intrinsics."""
     numba = pytest.importorskip("numba")
-    ns = {k: v for k, v in vars(C).items() if k.startswith("_") and isinstance(v, float)}
+    ns = {k: v for k, v in vars(C.kernel_math).items()
+          if k.startswith("_") and isinstance(v, float)}
     ns["math"] = math
     ns["np"] = np
     (ns["_select"], ns["_floor"], _, _, _, ns["_fma"]) = C._intrinsics()

@@ -111,3 +111,89 @@ def test_format_errors():
 
 def test_render_asa_like_posix():
     assert render([" A", "0B", "1C", " D"]) == "A\n\nB\n\fC\nD\n"
+
+
+# ----- every E12.4 and F12.1 editor against an oracle of its own ---------------------------
+# The port prints through fast_editor (scalar, three tiers) and vector.py's tables; the
+# goldens pass through whichever path a deck takes, so each editor is held here to an
+# oracle that shares no code with them: Python's decimal module, truncating the digits
+# of repr (the shortest round-trip decimal) toward zero.
+
+def _oracle_e(x: float, w: int = 12, d: int = 4) -> str:
+    import decimal
+
+    if x == 0.0:
+        return ".".rjust(w - d - 4) + "0" * d + "E-99"
+    q = decimal.Decimal(repr(x))
+    exponent = q.adjusted() + 1  # x = 0.ddd x 10**exponent
+    if not -99 <= exponent <= 99:
+        return "*" * w
+    digits = str(int(abs(q).scaleb(d - exponent).to_integral_value(decimal.ROUND_DOWN)))
+    sign = "-" if x < 0 else ""
+    text = f"{sign}.{digits}E{'-' if exponent < 0 else ' '}{abs(exponent):02d}"
+    return text.rjust(w) if len(text) <= w else "*" * w
+
+
+def _oracle_f(x: float, w: int = 12, d: int = 1) -> str:
+    import decimal
+
+    q = decimal.Decimal(repr(x)).quantize(decimal.Decimal(1).scaleb(-d), decimal.ROUND_DOWN)
+    text = f"{q:f}"
+    if text.startswith(("0.", "-0.")):
+        text = text.replace("0.", ".", 1)
+    if q == 0 and x < 0:
+        text = "-" + text.lstrip("-")
+    return text.rjust(w) if len(text) <= w else "*" * w
+
+
+def _near_boundaries(seed: int, n: int) -> list[float]:
+    """Values a few ulps either side of a printed-digit boundary (k 10**e), where an
+    editor that rounds a step wrong differs from truncation, and random ones."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        b = float(rng.integers(1000, 10000)) * 10.0 ** int(rng.integers(-30, 30))
+        for k in range(-3, 4):
+            v = b
+            for _ in range(abs(k)):
+                v = float(np.nextafter(v, np.inf if k > 0 else -np.inf))
+            out += [v, -v]
+        out.append(float(rng.standard_normal() * 10.0 ** rng.integers(-40, 40)))
+    return out
+
+
+def test_the_oracle_agrees_with_the_examples_above():
+    assert _oracle_e(545.6) == "   .5456E 03" and _oracle_e(-27.07) == "  -.2707E 02"
+    assert _oracle_e(130.357) == "   .1303E 03" and _oracle_e(1e99) == "*" * 12
+    assert _oracle_f(67.3758) == "        67.3" and _oracle_f(-0.04) == "         -.0"
+
+
+@pytest.mark.parametrize("strict", [False, True])
+def test_the_scalar_editors_truncate_as_the_oracle(strict):
+    from sielaff.emulator.printer import fast_editor
+
+    e, f = fast_editor("E", 12, 4, strict), fast_editor("F", 12, 1, strict)
+    values = _near_boundaries(31, 400)
+    assert len(values) == 400 * 15
+    for x in values:
+        assert e(x) == edit_e(x, 12, 4) == _oracle_e(x), x
+        if abs(x) < 1e9:
+            assert f(x) == edit_f(x, 12, 1) == _oracle_f(x), x
+
+
+def test_the_vector_editor_truncates_as_the_oracle():
+    import numpy as np
+
+    from sielaff.emulator import vector
+
+    values = np.array(_near_boundaries(32, 400))
+    words, ok = vector._edit_e(values)
+    text = words.view(np.uint8).reshape(len(values), 12)
+    checked = 0
+    for x, row, applies in zip(values, text, ok):
+        if applies:
+            assert bytes(row).decode() == _oracle_e(float(x)), x
+            checked += 1
+    assert checked >= 350  # the first tier takes the random ones, not those at a boundary

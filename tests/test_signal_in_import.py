@@ -1,6 +1,7 @@
 """A signal that lands while a C extension loads (numpy importing ``datetime``) comes back
 as that extension's ImportError; the command still reports the signal in one line, with
-its status, and no traceback (found by test_robust3_tools' SIGTERM trials under load)."""
+its status, and no traceback (found by test_spec_sweep_and_output_failures' SIGTERM
+trials under load)."""
 
 from __future__ import annotations
 

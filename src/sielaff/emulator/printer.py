@@ -137,7 +137,7 @@ def edits_nearby(value, kind: str, w: int = 12, d: int | None = None,
 # -- the fast path ---------------------------------------------------------
 # ``edit_e`` and ``edit_f`` above are the reference.  The emulator prints
 # millions of fields, so ``fast_editor`` builds editors that give exactly the
-# same text (tests/test_robust.py checks this on arbitrary and adversarial
+# same text (tests/test_run_failures.py checks this on arbitrary and adversarial
 # floats) in three tiers:
 #
 # 1. arithmetic: scale a float to d digits and truncate with int().  This is

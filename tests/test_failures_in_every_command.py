@@ -2,7 +2,7 @@
 
 Each test reproduces its finding (it failed on the code before the fix) and checks
 the behaviour now: nothing lost, nothing endless, one line for every failure, the
-same in every command.  Helpers come from ``test_robust``.
+same in every command.  Helpers come from ``test_run_failures``.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import pytest
 from conftest import DECKS, GOLDEN
 from procs import run
 from sielaff.mechanism import EXAMPLE as EXAMPLE_MECHANISM
-from test_robust import SIELAFF, _peak_rss_kb, cards, cli, split_stderr, write_deck
+from test_run_failures import SIELAFF, _peak_rss_kb, cards, cli, split_stderr, write_deck
 
 COMMANDS = ("run", "check", "table")  # plot: below, with a folder
 
@@ -200,8 +200,8 @@ def test_05_diff_streams_both_listings(tmp_path):
 
 
 def _peak_rss_kb_any(args: list[str]) -> int:
-    """Like test_robust._peak_rss_kb, for commands that may exit non-zero."""
-    from test_robust import _HWM
+    """Like test_run_failures._peak_rss_kb, for commands that may exit non-zero."""
+    from test_run_failures import _HWM
 
     proc = subprocess.run([sys.executable, "-c", _HWM, *args], stdout=subprocess.DEVNULL,
                           stderr=subprocess.PIPE, text=True, check=False)
