@@ -449,3 +449,25 @@ def test_a_tolerance_spec_gets_its_table(tmp_path, monkeypatch, capsys):
     assert section[0] == "<h2>Tolerances</h2>"
     assert html.unescape(section[1]) == "<pre>" + printed.rstrip("\n") + "</pre>"
     assert "TORQ_PEAK   in-lb" in printed and "per in R1" in printed
+
+
+def test_the_si_peaks_and_scene_carry_si_units():
+    """The default tier's guard of the report's units (the whole SI page is the slow
+    tier's): the peaks table and the scene section of decks/si.toml, made by the report's
+    own functions, name SI units only."""
+    from sielaff.tools.common import read_spec_deck
+    from sielaff.tools.report import _peaks_table, peak_rows, scene_section
+    from test_units import REPORT_UNIT
+
+    deck, scene = read_spec_deck(str(DECKS / "si.toml"))
+    assert deck.mechanism.units == "SI"
+    rows = peak_rows(deck, scene, n=360)
+    assert len(rows) >= 4
+    units = {u for _, _, u, _ in rows}
+    assert "N m" in units and "N" in units
+    assert units <= {"N", "N m", "m/s", "m/s^2", "rad/s", "rad/s^2", "deg", "W", "-"}
+    table = _peaks_table(rows)
+    assert REPORT_UNIT.search(table) is None, REPORT_UNIT.search(table)
+    section = "\n".join(scene_section(deck.mechanism, scene, True))
+    assert scene.effects and "<h2>The scene</h2>" in section
+    assert REPORT_UNIT.search(section) is None, REPORT_UNIT.search(section)

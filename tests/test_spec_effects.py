@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
+from sielaff import EXAMPLE as EXAMPLE_M
 from sielaff import Damper, PinFriction, Scene, Spring, analyze
 from sielaff.tools.spec import PunchError, scene_of, spec_values
 
@@ -172,3 +173,32 @@ def test_simulate_runs_the_friction_deck(tmp_path, capsys):
     rows = np.array([[float(x) for x in line.split(",")]
                      for line in csv.read_text().splitlines()[1:]])
     assert rows[0, 2] == 0.0 and rows[-1, 1] == pytest.approx(720.0)
+
+
+@pytest.mark.parametrize("key, field, value", [
+    ("crank_acceleration", "th2dd", -40.0), ("crank_acceleration", "th2dd", 12.5),
+    ("tex", "tex", -150.0), ("tex", "tex", 3.25),
+])
+def test_each_scalar_key_reads_as_its_value_sign_and_all(key, field, value):
+    """A [scene] number is the Scene's value, sign and all (the reader adds, flips or
+    scales nothing), and the engine sees it: TH2DD from the spec is the value given."""
+    sc = scene(f"[scene]\n{key} = {value!r}\n")
+    assert getattr(sc, field) == value
+    if field == "th2dd":
+        r = analyze(EXAMPLE_M, [30.0, 200.0], ["TH2DD"], scene=sc)
+        assert list(r["TH2DD"]) == [value, value]
+
+
+def test_the_scene_deck_reads_as_its_text_says():
+    """decks/scene.toml read by tomllib here, key by key, against the Scene the spec
+    reader makes of it."""
+    from sielaff.tools.common import read_spec_deck
+
+    text = tomllib.loads((ROOT / "decks" / "scene.toml").read_text())["scene"]
+    _, sc = read_spec_deck(str(ROOT / "decks" / "scene.toml"))
+    assert sc.th2dd == text["crank_acceleration"] == -40.0
+    assert sc.gravity == text["gravity"] == "down"
+    assert len(sc.loads) == len(text["load"])
+    for load, t in zip(sc.loads, text["load"]):
+        assert (load.r, load.angle) == (t.get("distance", 0.0), t.get("angle", 0.0))
+        assert (load.fx, load.fy) == tuple(t.get("force", [0.0, 0.0]))

@@ -156,3 +156,28 @@ def test_balance_keeps_a_spec_s_precision_and_names_the_weight(tmp_path):
     assert crank != round(crank, 4)
     assert "rounding to F8.4" not in proc.stdout.split("Written to")[1]
     assert "links' weight" in proc.stdout
+
+
+def test_standard_gravity_is_the_definition_in_each_system():
+    """g_n = 9.80665 m/s^2 exactly (the 3rd CGPM, 1901, the value SI defines); the
+    report's system takes g_n / (0.0254 m/in) = 386.0886 in/sec^2 to the listing's
+    G = 386.0880 (its own card, truncated).  The engine's "down" gravity is that value in
+    each system: a crank alone (links 3 and 4 massless), held against its weight, takes
+    the drive torque m g_n RG2 cos THETA 2, computed here from the definition."""
+    import numpy as np
+
+    from sielaff import EXAMPLE, Scene, analyze
+    from sielaff.mechanism import MASS_DIVISOR, STANDARD_GRAVITY
+
+    assert STANDARD_GRAVITY["SI"] == 9.80665
+    assert abs(STANDARD_GRAVITY["in-lb-sec"] - 9.80665 / 0.0254) < 1e-3
+    assert MASS_DIVISOR == {"in-lb-sec": STANDARD_GRAVITY["in-lb-sec"], "SI": 1.0}
+    th = np.arange(0.0, 360.0, 15.0)
+    for system, mass, rg2, g in (("SI", 2.0, 0.1, 9.80665),
+                                 ("in-lb-sec", 2.0 * 386.088, 4.0, 386.088)):
+        m = EXAMPLE.replace(units=system, W2=mass, W3=0.0, W4=0.0, ZI3=0.0, ZI4=0.0,
+                            RG2=rg2, ADEL2=0.0)
+        r = analyze(m, th, ["TORQ_GRAVITY"], scene=Scene(gravity="down"))
+        weight = mass * g / MASS_DIVISOR[system]  # N, or lb (W is a weight in lb there)
+        np.testing.assert_allclose(r["TORQ_GRAVITY"], weight * rg2 * np.cos(np.radians(th)),
+                                   rtol=0, atol=1e-12 * weight * rg2)

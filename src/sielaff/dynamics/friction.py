@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.analysis import analyze
-from sielaff.engine.friction import PINS, PinFriction
+from sielaff.engine.friction import PINS, mu_r
 from sielaff.engine.loads import Load
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
@@ -47,9 +47,9 @@ class FrictionError(ValueError):
 
 
 def _mur(scene: Scene) -> np.ndarray:
-    f = scene.friction
-    per = {k: (f if isinstance(f, PinFriction) else (f or {}).get(k)) for k in PINS}
-    return np.array([0.0 if p is None else p.mu * p.radius for p in per.values()])
+    """Each pin's mu r, in the order of PINS (the friction effect's own)."""
+    per = mu_r(scene)
+    return np.array([per[k] for k in PINS])
 
 
 def _series(values: np.ndarray) -> np.ndarray | None:

@@ -107,14 +107,9 @@ def _torq(mechanism: Mechanism, scene: Scene, ath2: Any, w: Any, a: Any) -> np.n
 
 
 def _nonlinear(scene: Scene) -> bool:
-    """Whether the scene has an effect that is not affine in the crank's acceleration
-    (pin friction, when the Scene has it)."""
-    f = getattr(scene, "friction", None)
-    if f is None:
-        return False
-    if isinstance(f, dict):
-        return any(getattr(v, "mu", 1.0) for v in f.values())
-    return bool(getattr(f, "mu", True))
+    """Whether the scene has an effect that is not affine in the crank's acceleration:
+    pin friction, when it is on (the friction effect's own rule)."""
+    return scene.has_friction
 
 
 class _Tables:

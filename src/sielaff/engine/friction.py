@@ -205,10 +205,15 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
     return tuple(x.reshape(shape) for x in out)
 
 
+def mu_r(scene: Any) -> dict[str, float]:
+    """Each pin's mu r [in or m] in ``scene`` (0 where it has none): what the effect
+    seeds, and what the dynamics' friction tables take."""
+    return {k: 0.0 if f is None else f.mu * f.radius for k, f in _per_pin(scene.friction).items()}
+
+
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
     per = _per_pin(scene.friction)
-    ns: dict[str, Any] = {f"MUR_{k}": 0.0 if f is None else f.mu * f.radius
-                          for k, f in per.items()}
+    ns: dict[str, Any] = {f"MUR_{k}": v for k, v in mu_r(scene).items()}
     given = [f for f in per.values() if f is not None]
     ns["friction_tol"] = min((f.tol for f in given), default=1e-13)
     ns["friction_max_iter"] = max((f.max_iter for f in given), default=100)
@@ -217,8 +222,7 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
 
 def has_friction(scene: Any) -> bool:
     """Whether some pin of ``scene`` has friction (mu r > 0): the effect's one rule."""
-    return any(f is not None and f.mu * f.radius > 0.0
-               for f in _per_pin(scene.friction).values())
+    return any(v > 0.0 for v in mu_r(scene).values())
 
 
 def _describe(scene: Any, units: str) -> list[Fact]:
