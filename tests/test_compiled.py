@@ -555,7 +555,7 @@ def test_the_kernel_compiles_for_a_machine_without_x86s_sfence(monkeypatch):
     sfence intrinsic, which other targets do not have (the kernel would not compile)."""
     monkeypatch.setenv(C.KERNEL_DIR_ENV, "off")
     monkeypatch.setattr(C, "_KERNELS", {})
-    monkeypatch.setattr(C, "_x86", lambda: False)
+    monkeypatch.setattr(C.kernel_math, "_x86", lambda: False)
     th = np.linspace(0.0, 360.0, 50)
     got, bad = C.compiled_analyze(_p(EXAMPLE), th, wanted=("TORQ", "GAMMA"))
     kernel, = C._KERNELS.values()

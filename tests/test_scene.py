@@ -344,6 +344,6 @@ def test_the_zero_cases_skip_what_they_claim():
     """The drawn cases above do reach the skipping: a massless coupler, no TEX, no effect."""
     m = EXAMPLE.replace(W3=0.0, ZI3=0.0)
     steps = plan(OUTPUTS, m)
-    for name in ("_force_link3=0", "_gravity=0", "_loads=0", "_effects=0",
-                 "_angular_acc_crank=0"):
+    for name in ("_force_link3=0", "_statics_gravity_loads=0", "_statics_external_loads=0",
+                 "_effects=0", "_angular_acc_crank=0"):
         assert name in steps, name

@@ -13,7 +13,7 @@ import numpy as np
 
 from sielaff.engine.fourbar import FOURBAR
 from sielaff.engine.registry import Model
-from sielaff.engine.scene import Scene, scene_from
+from sielaff.engine.scene import Scene, SceneBase, scene_from
 from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
 __all__ = ["AssemblyWarning", "Results", "analyze", "plan", "prepare"]
@@ -148,8 +148,12 @@ def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     model = FOURBAR if model is None else model
     if not isinstance(model, Model):
         raise ValueError(f"model = {model!r} is not a sielaff Model")
-    if not isinstance(scene, Scene):
+    if not isinstance(scene, SceneBase):
         raise ValueError(f"scene = {scene!r} is not a sielaff.Scene")
+    missing = [p.name for p in model.params if not hasattr(scene, p.name)]
+    if missing:  # another model's scene
+        raise ValueError(f"scene has no field {missing[0]}, which model {model.name} "
+                         "takes: make it with engine.scene.scene_type(model)")
     wanted = _check_outputs(outputs, model)
     validate(mechanism)
     req = Request(model, mechanism, ath2, scene, wanted)

@@ -30,7 +30,6 @@ import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
-from sielaff.engine.statics import pins
 from sielaff.engine.values import check_value
 
 __all__ = ["MAX_ELEMENTS", "Damper", "Spring", "check_elements"]
@@ -128,29 +127,21 @@ def check_elements(v: Any) -> tuple[Spring | Damper, ...]:
     return items
 
 
-def _place(point, R1, R2, c2, s2, c3, s3, c4, s4, TH2D, TH3D, TH4D):
+def _place(point, links, rates):
     """(offset from the base pin, position, velocity) of a point, each as (x, y)."""
     link, r, angle = point
     a = np.radians(angle)
     ca, sa = np.cos(a), np.sin(a)
-    if link == 1:
-        c, s, base, w, vbase = 1.0, 0.0, (0.0, 0.0), 0.0, (0.0, 0.0)
-    elif link == 2:
-        c, s, base, w, vbase = c2, s2, (0.0, 0.0), TH2D, (0.0, 0.0)
-    elif link == 3:
-        c, s, w = c3, s3, TH3D
-        base, vbase = (R2 * c2, R2 * s2), (-R2 * s2 * TH2D, R2 * c2 * TH2D)
-    else:
-        c, s, base, w, vbase = c4, s4, (R1, 0.0), TH4D, (0.0, 0.0)
+    ln, rt = links[link], rates[link]
+    c, s, w = ln.c, ln.s, rt.w
     px, py = r * (c * ca - s * sa), r * (s * ca + c * sa)
-    return ((px, py), (base[0] + px, base[1] + py),
-            (vbase[0] - w * py, vbase[1] + w * px))
+    return ((px, py), (ln.x + px, ln.y + py), (rt.vx - w * py, rt.vy + w * px))
 
 
-def _element(e, *kin):
+def _element(e, links, rates):
     """The element's offsets, L, dL/dt, tension and unit vector a -> b."""
-    pa, xa, va = _place(e.a, *kin)
-    pb, xb, vb = _place(e.b, *kin)
+    pa, xa, va = _place(e.a, links, rates)
+    pb, xb, vb = _place(e.b, links, rates)
     dx, dy = xb[0] - xa[0], xb[1] - xa[1]
     length = np.hypot(dx, dy)
     ux, uy = dx / length, dy / length
@@ -159,28 +150,21 @@ def _element(e, *kin):
     return pa, pb, length, rate, tension, ux, uy
 
 
-_KIN = ("R1", "R2", "c2", "s2", "c3", "s3", "c4", "s4", "TH2D", "TH3D", "TH4D")
-
-
-@step(provides=("fa32x_s", "fa32y_s", "fb34x_s", "fb34y_s", "foax_s", "foay_s", "fobx_s",
-                "foby_s", "TORQ_ELEMENTS"),
-      needs=("elements", "NELEMENTS", "R3", "R4", "s34") + _KIN,
+@step(provides=("element_loads",), needs=("elements", "NELEMENTS", "links", "link_rates"),
       zero_when=("NELEMENTS",))
-def _elements(elements, NELEMENTS, R3, R4, s34, R1, R2, c2, s2, c3, s3, c4, s4, TH2D, TH3D,
-              TH4D):
-    kin = (R1, R2, c2, s2, c3, s3, c4, s4, TH2D, TH3D, TH4D)
-    per_link: dict[int, list[Any]] = {k: [0.0, 0.0, 0.0] for k in (1, 2, 3, 4)}
+def _elements(elements, NELEMENTS, links, link_rates):
+    """Each element's pull on its two points, summed per link (a point on the frame passes
+    its force to the ground)."""
+    per_link: dict[int, list[Any]] = {k: [0.0, 0.0, 0.0] for k in links}
     for e in elements:
-        pa, pb, _, _, t, ux, uy = _element(e, *kin)
+        pa, pb, _, _, t, ux, uy = _element(e, links, link_rates)
         for (link, _, _), p, sign in ((e.a, pa, 1.0), (e.b, pb, -1.0)):
             fx, fy = sign * t * ux, sign * t * uy
             f = per_link[link]
             f[0] = f[0] + fx
             f[1] = f[1] + fy
             f[2] = f[2] + (p[0] * fy - p[1] * fx)
-    (f2x, f2y, m2), (f3x, f3y, m3), (f4x, f4y, m4) = per_link[2], per_link[3], per_link[4]
-    return pins(f2x, f2y, m2, f3x, f3y, m3, f4x, f4y, m4, R2, R3, R4, c2, s2, c3, s3, c4, s4,
-                s34)
+    return {k: tuple(f) for k, f in per_link.items() if k != 1}
 
 
 #: The per-element outputs: SPRINGk_L, SPRINGk_LD, SPRINGk_F, then DAMPERk_... .
@@ -188,15 +172,15 @@ ELEMENT_OUTPUTS = tuple(f"{kind}{k}_{q}" for kind in ("SPRING", "DAMPER")
                         for k in range(1, MAX_ELEMENTS + 1) for q in ("L", "LD", "F"))
 
 
-@step(provides=ELEMENT_OUTPUTS, needs=("elements",) + _KIN, zero_when=("NELEMENTS",))
-def _element_outputs(elements, R1, R2, c2, s2, c3, s3, c4, s4, TH2D, TH3D, TH4D):
-    kin = (R1, R2, c2, s2, c3, s3, c4, s4, TH2D, TH3D, TH4D)
+@step(provides=ELEMENT_OUTPUTS, needs=("elements", "links", "link_rates"),
+      zero_when=("NELEMENTS",))
+def _element_outputs(elements, links, link_rates):
     out: dict[str, Any] = dict.fromkeys(ELEMENT_OUTPUTS, 0.0)
     count = {"SPRING": 0, "DAMPER": 0}
     for e in elements:
         kind = "SPRING" if isinstance(e, Spring) else "DAMPER"
         count[kind] += 1
-        _, _, length, rate, tension, _, _ = _element(e, *kin)
+        _, _, length, rate, tension, _, _ = _element(e, links, link_rates)
         for q, v in (("L", length), ("LD", rate), ("F", tension)):
             out[f"{kind}{count[kind]}_{q}"] = v
     return tuple(out[n] for n in ELEMENT_OUTPUTS)
@@ -295,7 +279,8 @@ def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
                     raise reader.error(f"{where} has no {key}")
                 values.append(reader.number(f"{where} {key}", item[key]))
             try:
-                out.append((Spring if kind == "spring" else Damper)(*points, *values))
+                out.append(Spring(points[0], points[1], values[0], values[1])
+                           if kind == "spring" else Damper(points[0], points[1], values[0]))
             except ValueError as exc:
                 raise reader.error(f"{where}: {exc}") from None
     return {"elements": out} if out else {}
@@ -346,9 +331,7 @@ c = 0.5                       # lb sec/in or N s/m"""
 
 
 EFFECT = Effect("springs and dampers", (step_of(_elements), step_of(_element_outputs)), _seed,
-                parts={s: s + "_s" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
-                                             "foay", "fobx", "foby")} | {"torq": "TORQ_ELEMENTS"},
-                torque="TORQ_ELEMENTS",
+                torque="TORQ_ELEMENTS", applies="element_loads",
                 params=(Param("elements", (), check_elements,
                               "sequence of Spring and Damper\n    Springs and dampers between "
                               "points of the links and the frame."),),

@@ -22,11 +22,16 @@ from sielaff.engine import (
     velocities,
 )
 from sielaff.engine.declare import Param
+from sielaff.engine.links import FRAME, FRAME_RATE, Link, LinkRate
 from sielaff.engine.outputs import RESULTS, VECTOR_STEPS
-from sielaff.engine.registry import SLOTS, Model
+from sielaff.engine.registry import Model, step, step_of
+from sielaff.engine.statics import pins
 from sielaff.mechanism import FIELD_NAMES, MASS_DIVISOR
 
-__all__ = ["BRANCHES", "FOURBAR", "INPUTS", "KINEMATIC_OUTPUTS", "OUTPUTS"]
+__all__ = ["BRANCHES", "FOURBAR", "INPUTS", "KINEMATIC_OUTPUTS", "OUTPUTS", "SLOTS"]
+
+#: The superposed quantities an effect may add to: the pin forces and the drive torque.
+SLOTS = ("fa32x", "fa32y", "fb34x", "fb34y", "foax", "foay", "fobx", "foby", "torq")
 
 #: The two assemblies of a four-bar: ``open`` (the 1966 program's: B above the line A-O4
 #: for the report's example) and ``crossed`` (B mirrored about that line).
@@ -50,13 +55,44 @@ def _seed(mechanism: Any, ath2: Any, scene: Any) -> dict[str, Any]:
     return ns
 
 
+@step(provides=("links",), needs=("R1", "R2", "c2", "s2", "c3", "s3", "c4", "s4", "W2", "W3",
+                                  "W4", "RG2", "RG3", "RG4", "cd2", "sd2", "cd3", "sd3", "cd4",
+                                  "sd4"))
+def _links(R1, R2, c2, s2, c3, s3, c4, s4, W2, W3, W4, RG2, RG3, RG4, cd2, sd2, cd3, sd3, cd4,
+           sd4):
+    """The links as the effects see them (engine/links.py): 2 from O2, 3 from A, 4 from O4."""
+    return {1: FRAME, 2: Link(c2, s2, 0.0, 0.0, W2, RG2, cd2, sd2),
+            3: Link(c3, s3, R2 * c2, R2 * s2, W3, RG3, cd3, sd3),
+            4: Link(c4, s4, R1, 0.0, W4, RG4, cd4, sd4)}
+
+
+@step(provides=("link_rates",), needs=("R2", "c2", "s2", "TH2D", "TH3D", "TH4D"))
+def _link_rates(R2, c2, s2, TH2D, TH3D, TH4D):
+    """Each link's angular velocity and its base point's velocity (A's for link 3)."""
+    return {1: FRAME_RATE, 2: LinkRate(TH2D, 0.0, 0.0),
+            3: LinkRate(TH3D, -R2 * s2 * TH2D, R2 * c2 * TH2D), 4: LinkRate(TH4D, 0.0, 0.0)}
+
+
+_NONE = (0.0, 0.0, 0.0)
+_GEOMETRY = ("R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34")
+
+
+def _statics(loads, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
+    """The slots for loads ``{link: (fx, fy, m about its base pin)}`` on links 2-4."""
+    f2, f3, f4 = (loads.get(k, _NONE) for k in (2, 3, 4))
+    return pins(f2[0], f2[1], f2[2], f3[0], f3[1], f3[2], f4[0], f4[1], f4[2],
+                R2, R3, R4, c2, s2, c3, s3, c4, s4, s34)
+
+
 #: The report's model: positions, velocities, accelerations, inertia, forces, outputs.
 FOURBAR = Model("four-bar", seed=_seed, results=RESULTS,
                 sums={slot: slot + "_e" for slot in SLOTS},
                 breakdown=("TORQ_INERTIA", "TORQ"), counts="s34",
                 params=(Param("branch", "open", _branch,
-                              '{"open", "crossed"}\n    Which assembly of the loop.'),))
-FOURBAR.add(positions, velocities, accelerations, inertia, forces, VECTOR_STEPS)
+                              '{"open", "crossed"}\n    Which assembly of the loop.'),),
+                statics=(_statics, _GEOMETRY))
+FOURBAR.add(positions, velocities, accelerations, inertia, forces, VECTOR_STEPS,
+            step_of(_links), step_of(_link_rates))
 FOURBAR.add_effect("gravity")
 FOURBAR.add_effect("loads")
 FOURBAR.add_effect("tex")

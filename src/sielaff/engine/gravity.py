@@ -11,25 +11,22 @@ from typing import Any
 
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
-from sielaff.engine.statics import pins
 from sielaff.engine.values import LIMIT
 from sielaff.mechanism import STANDARD_GRAVITY
 
 
-@step(provides=("fa32x_g", "fa32y_g", "fb34x_g", "fb34y_g", "foax_g", "foay_g", "fobx_g",
-                "foby_g", "TORQ_GRAVITY"),
-      needs=("GX", "GY", "GW", "W2", "W3", "W4", "RG2", "RG3", "RG4", "cd2", "sd2", "cd3", "sd3",
-             "cd4", "sd4", "R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34"),
-      zero_when=("GX", "GY"))
-def _gravity(GX, GY, GW, W2, W3, W4, RG2, RG3, RG4, cd2, sd2, cd3, sd3, cd4, sd4,
-             R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    per_link = []
-    for W, RG, cd, sd in ((W2, RG2, cd2, sd2), (W3, RG3, cd3, sd3), (W4, RG4, cd4, sd4)):
-        fx, fy = W / GW * GX, W / GW * GY  # the weight m g, with m = W / GW
-        per_link.append((fx, fy, RG * (cd * fy - sd * fx)))  # and its moment about the pin
-    (f2x, f2y, m2), (f3x, f3y, m3), (f4x, f4y, m4) = per_link
-    return pins(f2x, f2y, m2, f3x, f3y, m3, f4x, f4y, m4, R2, R3, R4, c2, s2, c3, s3, c4, s4,
-                s34)
+@step(provides=("gravity_loads",), needs=("GX", "GY", "GW", "links"), zero_when=("GX", "GY"))
+def _gravity(GX, GY, GW, links):
+    """Each moving link's weight m g at its centre of mass, as a force and its moment
+    about the link's base point (m = W / GW: the W fields are weights in the report's
+    system, masses in SI)."""
+    out = {}
+    for k, link in links.items():
+        if k == 1:
+            continue  # the frame's weight is the ground's
+        fx, fy = link.W / GW * GX, link.W / GW * GY
+        out[k] = (fx, fy, link.RG * (link.cd * fy - link.sd * fx))
+    return out
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
@@ -84,9 +81,7 @@ def _write(scene: Any) -> dict[str, Any]:
 
 
 EFFECT = Effect("gravity", (step_of(_gravity),), _seed,
-                parts={s: s + "_g" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
-                                             "foay", "fobx", "foby")} | {"torq": "TORQ_GRAVITY"},
-                torque="TORQ_GRAVITY",
+                torque="TORQ_GRAVITY", applies="gravity_loads",
                 params=(Param("gravity", None, check_gravity,
                               'None, "down" or (gx, gy)\n    The acceleration of gravity in '
                               "the frame's axes [length unit/sec^2]; ``\"down\"``\n    is "

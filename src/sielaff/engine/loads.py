@@ -19,7 +19,6 @@ import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.registry import Effect, step, step_of
-from sielaff.engine.statics import pins
 from sielaff.engine.values import call_checked, check_value
 
 
@@ -65,28 +64,24 @@ class Load:
         return call_checked(f"Load.{name}", v, ath2)
 
 
-@step(provides=("fa32x_l", "fa32y_l", "fb34x_l", "fb34y_l", "foax_l", "foay_l", "fobx_l",
-                "foby_l", "TORQ_LOADS"),
-      needs=("loads", "NLOADS", "ATH2", "R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4",
-             "s34"),
+@step(provides=("external_loads",), needs=("loads", "NLOADS", "ATH2", "links"),
       zero_when=("NLOADS",))
-def _loads(loads, NLOADS, ATH2, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    lines = {2: (c2, s2), 3: (c3, s3), 4: (c4, s4)}
-    per_link: dict[int, list[Any]] = {2: [0.0, 0.0, 0.0], 3: [0.0, 0.0, 0.0],
-                                      4: [0.0, 0.0, 0.0]}
+def _loads(loads, NLOADS, ATH2, links):
+    """The loads summed per link: the force and its moment about the link's base point
+    plus the pure torque."""
+    per_link: dict[int, list[Any]] = {}
     for load in loads:
-        c, s = lines[load.link]
+        link = links[load.link]
+        c, s = link.c, link.s
         r, fx, fy = load.value("r", ATH2), load.value("fx", ATH2), load.value("fy", ATH2)
         a = np.radians(load.value("angle", ATH2))
         px = r * (c * np.cos(a) - s * np.sin(a))  # the point, from the base pin
         py = r * (s * np.cos(a) + c * np.sin(a))
-        f = per_link[load.link]
+        f = per_link.setdefault(load.link, [0.0, 0.0, 0.0])
         f[0] = f[0] + fx
         f[1] = f[1] + fy
         f[2] = f[2] + (px * fy - py * fx) + load.value("torque", ATH2)
-    (f2x, f2y, m2), (f3x, f3y, m3), (f4x, f4y, m4) = per_link[2], per_link[3], per_link[4]
-    return pins(f2x, f2y, m2, f3x, f3y, m3, f4x, f4y, m4, R2, R3, R4, c2, s2, c3, s3, c4, s4,
-                s34)
+    return {k: tuple(f) for k, f in per_link.items()}
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
@@ -185,9 +180,7 @@ torque = 0.0                  # CCW +, in-lb or N m"""
 
 
 EFFECT = Effect("loads", (step_of(_loads),), _seed,
-                parts={s: s + "_l" for s in ("fa32x", "fa32y", "fb34x", "fb34y", "foax",
-                                             "foay", "fobx", "foby")} | {"torq": "TORQ_LOADS"},
-                torque="TORQ_LOADS",
+                torque="TORQ_LOADS", applies="external_loads",
                 params=(Param("loads", (), check_loads,
                               "sequence of :class:`~sielaff.engine.loads.Load`\n"
                               "    Forces and torques on links 2-4.", _varies, _block),),

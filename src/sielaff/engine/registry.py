@@ -94,18 +94,15 @@ def steps_of(module: ModuleType) -> tuple[Step, ...]:
                  and v.__module__ == module.__name__)
 
 
-#: The superposed quantities an effect may add to (the pin forces and the drive torque).
-SLOTS = ("fa32x", "fa32y", "fb34x", "fb34y", "foax", "foay", "fobx", "foby", "torq")
-
-
 @dataclass(frozen=True)
 class Effect:
     """What a scene may call for, declared once (in the effect's own module).
 
     ``seed(scene, mechanism)`` gives the names it puts in the namespace (all zero when
     the effect is off: its steps are then skipped); ``steps`` compute its parts;
-    ``parts`` maps a slot of :data:`SLOTS` to the name of the effect's share of that
-    superposed quantity (added to the 1966 program's totals); ``torque`` names its
+    ``parts`` maps a slot of the model's superposed quantities (``Model(sums=...)``: the
+    four-bar's pin forces and drive torque) to the name of the effect's share of that
+    quantity (added to the 1966 program's totals); ``torque`` names its
     public share of TORQ, if it has one (taken out of TORQ to leave ``TORQ_INERTIA``).
 
     An effect that is not superposable (pin friction needs the totals of everything
@@ -126,6 +123,11 @@ class Effect:
     the outputs a table shows when it is on (all its outputs by default); ``spec``, its
     form in a spec's ``[scene]``; ``compiled``, whether the compiled backend models it;
     ``in_1966``, whether the 1966 program had it (TEX).
+
+    An effect that puts loads on the links names them in ``applies``: its step provides
+    that name as ``{link: (fx, fy, m)}`` (:mod:`sielaff.engine.links`), and the model
+    derives the step that turns them into its ``parts`` by the model's own statics, so the
+    effect does not know the linkage.
     """
 
     name: str
@@ -146,15 +148,18 @@ class Effect:
     spec: SpecForm | None = None
     compiled: bool = False
     in_1966: bool = False
+    applies: str | None = None
 
     def __post_init__(self) -> None:
         if self.corrects and not self.switch:
             raise ValueError(f"effect {self.name}: an effect that corrects totals names "
                              "the seeds that switch it on (switch=)")
-        bad = sorted(set(self.parts) - set(SLOTS))
-        if bad:
-            raise ValueError(f"effect {self.name}: unknown slots {bad} (slots: {SLOTS})")
         public = {n for s in self.steps for n in s.provides if n[0].isupper()}
+        if self.applies:  # its parts come from the model's statics, TORQ's its torque
+            if self.parts or not self.torque:
+                raise ValueError(f"effect {self.name} applies loads: it names its torque "
+                                 "(torque=), the model names its parts")
+            public.add(self.torque)
         missing = sorted(public - set(self.outputs))
         if missing:
             raise ValueError(f"effect {self.name}: outputs {missing} have no declared "
@@ -195,9 +200,13 @@ class Model:
     def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
                  results: tuple[str, ...], sums: Mapping[str, str] | None = None,
                  breakdown: tuple[str, str] | None = None, counts: str | None = None,
-                 params: tuple[Param, ...] = ()) -> None:
+                 params: tuple[Param, ...] = (),
+                 statics: tuple[Callable[..., Any], tuple[str, ...]] | None = None,
+                 torque_slot: str = "torq") -> None:
         self.name = name
         self.own_params = params
+        self.statics = statics
+        self.torque_slot = torque_slot
         self._seed = seed
         self.results = results
         self.sums = dict(sums or {})
@@ -234,6 +243,13 @@ class Model:
             assert isinstance(effect, Effect)
         if any(e.name == effect.name for e in self.effects):
             raise ValueError(f"effect {effect.name} registered twice in model {self.name}")
+        bad = sorted(set(effect.parts) - set(self.sums))
+        if bad:
+            raise ValueError(f"effect {effect.name}: model {self.name} has no slots {bad} "
+                             f"(slots: {tuple(self.sums)})")
+        if effect.applies and self.statics is None:
+            raise ValueError(f"effect {effect.name} applies loads to the links: model "
+                             f"{self.name} has no statics to take them")
         taken = {p.name for p in self.params}
         clash = [p.name for p in effect.params if p.name in taken]
         if clash:
@@ -288,7 +304,8 @@ class Model:
             return dataclasses_replace(s, fn=wrap(s), zero_when=(), zero_groups=())
 
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
-                    breakdown=self.breakdown, counts=self.counts, params=self.own_params)
+                    breakdown=self.breakdown, counts=self.counts, params=self.own_params,
+                    statics=self.statics, torque_slot=self.torque_slot)
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]
@@ -319,9 +336,9 @@ class Model:
         own = [s if not set(totals) & set(s.provides) else dataclasses_replace(
             s, provides=tuple(n + "_0" if n in totals else n for n in s.provides))
             for s in self._own]
-        derived: list[Step] = []
+        derived: list[Step] = [self._statics_step(e) for e in self.effects if e.applies]
         if self.sums:
-            derived.append(_sum_step(self.sums, self.effects))
+            derived.append(_sum_step(self.sums, [self.parts_of(e) for e in self.effects]))
         if self.breakdown:
             name, total = self.breakdown
             torques = tuple(e.torque for e in self.effects
@@ -351,6 +368,29 @@ class Model:
                 provider[name] = st
         self._variants[active] = (steps, provider)
         return steps, provider
+
+    def parts_of(self, effect: Effect) -> Mapping[str, str]:
+        """The effect's part of each slot: as it declares them, or, for an effect that
+        applies loads to the links, ``slot + "_" + applies`` from the model's statics
+        (its ``torque`` for the drive torque's slot)."""
+        if not effect.applies:
+            return effect.parts
+        return {s: effect.torque if s == self.torque_slot and effect.torque
+                else f"{s}_{effect.applies}" for s in self.sums}
+
+    def _statics_step(self, effect: Effect) -> Step:
+        """The step turning an effect's loads on the links into its parts of the slots,
+        by the model's statics (skipped with the effect: its loads are then zero)."""
+        assert self.statics is not None and effect.applies is not None
+        fn, geometry = self.statics
+
+        def _statics(loads: Any, *geo: Any) -> Any:
+            return fn(loads, *geo)
+
+        parts = self.parts_of(effect)
+        provides = tuple(parts[s] for s in self.sums)
+        return Step(f"_statics_{effect.applies}", _statics, provides,
+                    (effect.applies,) + geometry, (effect.applies,), ((effect.applies,),))
 
     def active(self, zero_seeds: frozenset[str]) -> tuple[str, ...]:
         """The corrective effects that are on (some seed of their ``switch`` not zero)."""
@@ -473,10 +513,11 @@ class Model:
         return not_assembled
 
 
-def _sum_step(sums: Mapping[str, str], effects: list[Effect]) -> Step:
-    """The step adding each effect's part of each slot, in registration order."""
+def _sum_step(sums: Mapping[str, str], parts: list[Mapping[str, str]]) -> Step:
+    """The step adding each effect's part of each slot (``parts``: each effect's, in
+    registration order)."""
     slots = tuple(sums)
-    needs_by_slot = [tuple(e.parts[s] for e in effects if s in e.parts) for s in slots]
+    needs_by_slot = [tuple(p[s] for p in parts if s in p) for s in slots]
     needs = tuple(dict.fromkeys(n for ns in needs_by_slot for n in ns))
     where = [tuple(needs.index(n) for n in ns) for ns in needs_by_slot]
 

@@ -1,0 +1,53 @@
+"""What a model tells the effects about each of its links, whatever the linkage.
+
+An effect that puts loads on the links (gravity, external loads, springs and dampers)
+does not know the linkage: it reads ``links`` (each link's line and base point, its
+weight and centre of mass) and ``link_rates`` (its angular velocity and its base
+point's velocity), which the model provides as steps, and gives its loads per link as
+``{link: (fx, fy, m)}``: a resultant force in the frame's axes and its moment about the
+link's base point.  The model's statics (``Model(statics=...)``) turns those into the
+pin forces and the drive torque.  Link 1 is the frame (its base at the origin, its line
+along +x, at rest).  Lengths in in or m, angles as cosines and sines, rates in rad/sec.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["FRAME", "FRAME_RATE", "Link", "LinkRate"]
+
+
+@dataclass(frozen=True)
+class Link:
+    """One link at the positions of a request (each field a number or an array).
+
+    ``c, s``: the cosine and sine of the link's line; ``x, y``: its base point (the pin a
+    point on it is placed from); ``W``: its weight [lb] (in SI its mass [kg]); ``RG,
+    cd, sd``: its centre of mass, RG from the base point in the direction (cd, sd).
+    """
+
+    c: Any
+    s: Any
+    x: Any
+    y: Any
+    W: Any = 0.0
+    RG: Any = 0.0
+    cd: Any = 1.0
+    sd: Any = 0.0
+
+
+@dataclass(frozen=True)
+class LinkRate:
+    """One link's angular velocity ``w`` [rad/sec, CCW +] and its base point's velocity
+    ``(vx, vy)`` [in/sec or m/s]."""
+
+    w: Any
+    vx: Any
+    vy: Any
+
+
+#: The frame: base at the origin, line along +x, massless (its loads are the ground's).
+FRAME = Link(1.0, 0.0, 0.0, 0.0)
+#: The frame at rest.
+FRAME_RATE = LinkRate(0.0, 0.0, 0.0)
