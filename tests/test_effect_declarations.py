@@ -329,6 +329,8 @@ found["table"] = {"status": status, "bearing": "TORQ_BEARING[in-lb]" in head,
                                              - rows[:, names.index("TORQ")]))),
                   "scale": float(np.max(np.abs(rows[:, parts]))),
                   "value": rows[0, names.index("TORQ_BEARING")]}
+status, out, err = run(["help", "spec"])
+found["help"] = [status, out]
 status, out, err = run(["check", spec])
 found["check_text"] = [status, out]
 status, out, err = run(["check", spec, "--format", "json"])
@@ -389,6 +391,11 @@ def test_added_effect_is_in_the_spec_the_table_and_the_torque_parts(added):
     assert t["sum"] <= 1e-12 * t["scale"]
     assert t["value"] == pytest.approx(2.0 * 50.0, rel=1e-15)  # c TH2D
     assert added["torq"] == pytest.approx(100.0, rel=1e-12)
+
+
+def test_added_effect_is_in_help_spec(added):
+    status, out = added["help"]
+    assert status == 0 and "bearing_damping = 0.5         # the crank bearing's drag" in out
 
 
 def test_added_effect_is_in_check_and_its_json(added):

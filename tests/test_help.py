@@ -115,3 +115,26 @@ def test_examples_were_found():
     assert any(c.startswith("sielaff help") for c in found)
     assert len(found) >= 10, found
     assert ROOT.exists()
+
+
+def test_help_spec_is_made_from_the_readers_tables(capsys):
+    """Every key the spec reader takes for the mechanism, the range cards and [deck], and
+    each effect's own [scene] lines, appear in ``sielaff help spec``."""
+    from sielaff.cli import main
+    from sielaff.engine.fourbar import FOURBAR
+    from sielaff.tools.spec_fields import OTHER_TABLES, RANGE_KEYS, SPEC_NAMES
+
+    assert main(["help", "spec"]) == 0
+    out = capsys.readouterr().out
+    for (section, key, _), name in SPEC_NAMES.items():
+        assert f"[{section}]" in out and name in out
+        assert f"\n{key} = " in out
+    for key in RANGE_KEYS:
+        assert f"\n{key} = ..." in out
+    effects = [e for e in FOURBAR.effects if e.spec is not None]
+    assert len(effects) == len(FOURBAR.effects)
+    for e in effects:
+        assert e.spec.help in out
+    for table in OTHER_TABLES:
+        assert f"[{table}]" in out or table in out
+    assert main(["help"]) == 0 and "spec " in capsys.readouterr().out

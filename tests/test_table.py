@@ -268,7 +268,7 @@ def forbid_forces():
         return step
 
     model = engine.FOURBAR.replacing(**{name: refuse(name) for name in FORCE_STEPS})
-    with mock.patch.object(engine.analysis, "FOURBAR", model):
+    with mock.patch.object(engine.analysis, "MODELS", [model]):  # what model_for finds
         yield model
 
 

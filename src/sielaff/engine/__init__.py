@@ -110,7 +110,15 @@ How the work is organised
 from __future__ import annotations
 
 from sielaff.engine import forces
-from sielaff.engine.analysis import AssemblyWarning, Request, Results, analyze, plan, prepare
+from sielaff.engine.analysis import (
+    AssemblyWarning,
+    Request,
+    Results,
+    analyze,
+    model_for,
+    plan,
+    prepare,
+)
 from sielaff.engine.classify import KINDS, LinkageClass, linkage_class
 from sielaff.engine.elements import Damper, Spring
 from sielaff.engine.fourbar import FOURBAR, INPUTS, KINEMATIC_OUTPUTS, OUTPUTS
@@ -130,6 +138,7 @@ STEPS = FOURBAR.steps
 
 __all__ = [
     "FOURBAR",
+    "model_for",
     "Effect",
     "Model",
     "Request",

@@ -16,7 +16,7 @@ from sielaff.engine.registry import Model
 from sielaff.engine.scene import Scene, SceneBase, scene_from
 from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
-__all__ = ["AssemblyWarning", "Results", "analyze", "plan", "prepare"]
+__all__ = ["MODELS", "AssemblyWarning", "Results", "analyze", "model_for", "plan", "prepare"]
 
 #: A keyword argument not given (``None`` means no gravity, so it cannot mark absence).
 _UNSET: Any = type("Unset", (), {"__repr__": lambda self: "<unset>"})()
@@ -136,6 +136,20 @@ class Request:
     shape: tuple[int, ...] | None = None
 
 
+#: The models ``analyze`` knows, each for its type of mechanism (the first that fits).
+MODELS: list[Model] = [FOURBAR]
+
+
+def model_for(mechanism: Any) -> Model:
+    """The model of ``mechanism``: the registered one whose mechanism type it is (the
+    four-bar's for a :class:`~sielaff.mechanism.Mechanism`)."""
+    for model in MODELS:
+        if model.mechanism is not None and isinstance(mechanism, model.mechanism):
+            return model
+    raise ValueError(f"no model analyses a {type(mechanism).__name__}: give a sielaff "
+                     "Mechanism (or model=)")
+
+
 def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None,
             scene: Scene, model: Model | None = None, *, broadcast: bool = True) -> Request:
     """The one validation of ``analyze``'s inputs, shared by every backend.
@@ -145,7 +159,7 @@ def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     angles, the fields and the scene's arrays broadcast together (a ValueError naming
     the two that clash).
     """
-    model = FOURBAR if model is None else model
+    model = model_for(mechanism) if model is None else model
     if not isinstance(model, Model):
         raise ValueError(f"model = {model!r} is not a sielaff Model")
     if not isinstance(scene, SceneBase):

@@ -194,7 +194,10 @@ class Model:
     :data:`SLOTS` the name the sum of the effects' parts is provided as (the model's
     force steps add it to their totals); ``breakdown``: ``(name, total)``, the total
     torque less every effect's public torque (``("TORQ_INERTIA", "TORQ")``);
-    ``counts``: the name whose NaN marks a position that cannot assemble.
+    ``counts``: the name whose NaN marks a position that cannot assemble; ``params``: its
+    own Scene fields; ``statics``: ``(fn, geometry)``, how loads on its links become its
+    sums (:mod:`sielaff.engine.links`); ``mechanism``: the type of mechanism it analyses
+    (``analysis.model_for`` finds a mechanism's model by it).
     """
 
     def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
@@ -202,8 +205,9 @@ class Model:
                  breakdown: tuple[str, str] | None = None, counts: str | None = None,
                  params: tuple[Param, ...] = (),
                  statics: tuple[Callable[..., Any], tuple[str, ...]] | None = None,
-                 torque_slot: str = "torq") -> None:
+                 torque_slot: str = "torq", mechanism: type | None = None) -> None:
         self.name = name
+        self.mechanism = mechanism
         self.own_params = params
         self.statics = statics
         self.torque_slot = torque_slot
@@ -305,7 +309,8 @@ class Model:
 
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
                     breakdown=self.breakdown, counts=self.counts, params=self.own_params,
-                    statics=self.statics, torque_slot=self.torque_slot)
+                    statics=self.statics, torque_slot=self.torque_slot,
+                    mechanism=self.mechanism)
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]

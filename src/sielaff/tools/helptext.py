@@ -113,6 +113,48 @@ standard input and output (every command)
   the pipe early (| head) ends the run quietly (exit 0; check and diff keep
   their status)."""
 
+def spec_text() -> str:
+    """``sielaff help spec``: the spec's tables and keys, made from the readers' own
+    tables (the mechanism's keys from the spec reader, ``[scene]``'s from each effect's
+    declaration), so a new effect's keys appear here with nothing else edited."""
+    from sielaff.quantities import unit
+    from sielaff.tools.spec_fields import OTHER_TABLES, RANGE_KEYS, SPEC_NAMES
+    from sielaff.tools.spec_scene import scene_help
+
+    out = ["A spec (*.toml) is a deck's values by name, and what a deck cannot say: the",
+           "scene, a motor, a sweep, a synthesis, a tolerance study.  Units: the report's",
+           "(in, lb, sec), or SI with [scene] units = \"SI\" (the first unit below, then",
+           "the SI one).  decks/*.toml are worked examples of every table.", ""]
+    def units(name: str) -> str:
+        a, b = unit(name), unit(name, "SI")
+        return f"{name} {a}" if a == b else f"{name} {a} or {b}"
+
+    sections: dict[str, dict[str, list[tuple[str | None, str]]]] = {}
+    for (section, key, sub), name in SPEC_NAMES.items():
+        sections.setdefault(section, {}).setdefault(key, []).append((sub, name))
+    for section, keys in sections.items():
+        out.append(f"[{section}]")
+        for key, subs in keys.items():
+            if subs[0][0] is None:
+                out.append(f"{key + ' = ...':<30}# {units(subs[0][1])}")
+            else:
+                inline = ", ".join(f"{sub} = ..." for sub, _ in sorted(subs, key=str))
+                out.append(f"{key} = {{ {inline} }}")
+                out.append(f"{'':30}# {'; '.join(units(n) for _, n in sorted(subs, key=str))}")
+        out.append("")
+    out += ["[[range]]                     # one per range card: THZERO, DELTA, THMAX"]
+    out += [f"{k + ' = ...':<30}# deg" for k in RANGE_KEYS]
+    out += ["", "[deck]", 'sequence = "SIEL"             # columns 73-80 of the punched cards', ""]
+    out += [scene_help(), ""]
+    others = [t for t in OTHER_TABLES if t != "scene"]
+    out.append(f"[{'], ['.join(others)}]: read by the command that owns each (simulate, "
+               "sweep,")
+    out.append("  synth, tolerance); decks/motor.toml, sweep.toml, synth.toml and "
+               "tolerance.toml")
+    out.append("  show every key with its unit.")
+    return "\n".join(out)
+
+
 TOPICS = {
     "deck": ("the card deck: layout, fields, units, the example", DECK),
     "conventions": ("frame, angles, signs, which body each force acts on, units",
@@ -121,6 +163,7 @@ TOPICS = {
     "exit": ("exit statuses, the same for every command", EXIT_STATUS),
     "io": ("- for standard input, -o - for standard output, check --format json",
            STREAMS),
+    "spec": ("the TOML spec: its tables and keys ([scene]'s from each effect)", spec_text),
 }
 
 
@@ -138,5 +181,6 @@ def cmd_help(args: argparse.Namespace) -> int:
     if args.topic not in TOPICS:
         raise CommandError(f"sielaff: no help topic {args.topic!r} "
                            f"({', '.join(TOPICS)})")
-    print(TOPICS[args.topic][1])
+    text = TOPICS[args.topic][1]
+    print(text() if callable(text) else text)
     return 0

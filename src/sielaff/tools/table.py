@@ -95,14 +95,14 @@ CHUNK = 10_000
 FORMATS = ("csv", "json")
 
 
-def torque_parts() -> tuple[str, ...]:
-    """The parts TORQ is the sum of (the model's: TORQ_INERTIA, then each effect's share,
-    docs/effects.md), in this order."""
-    return engine.FOURBAR.torque_parts
+def torque_parts(mechanism=None) -> tuple[str, ...]:
+    """The parts TORQ is the sum of (the mechanism's model's: TORQ_INERTIA, then each
+    effect's share, docs/effects.md), in this order."""
+    return (engine.FOURBAR if mechanism is None else engine.model_for(mechanism)).torque_parts
 
 
 def columns(kinematics_only: bool = False, scene: Scene | None = None,
-            torque_parts: bool = False) -> tuple[str, ...]:
+            torque_parts: bool = False, mechanism=None) -> tuple[str, ...]:
     """The table's column names, in order: CARD, the engine's results, then each effect
     the ``scene`` calls for shows its outputs (its declaration's ``columns``: TORQ_GRAVITY
     with gravity, TORQ_FRICTION and each pin's PLOSS with friction, ...); with
@@ -111,8 +111,9 @@ def columns(kinematics_only: bool = False, scene: Scene | None = None,
     if kinematics_only:
         return ("CARD",) + engine.KINEMATIC_OUTPUTS
     sc = scene or Scene()
-    extra: list[str] = list(engine.FOURBAR.torque_parts) if torque_parts else []
-    for effect in engine.FOURBAR.effects_on(sc):
+    model = engine.FOURBAR if mechanism is None else engine.model_for(mechanism)
+    extra: list[str] = list(model.torque_parts) if torque_parts else []
+    for effect in model.effects_on(sc):
         extra += [n for n in effect.shown(sc) if n not in engine.RESULTS]
     return ("CARD",) + engine.RESULTS + tuple(dict.fromkeys(extra))
 
@@ -215,7 +216,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     scene = scene or Scene()
     json = fmt == "json"
     system = getattr(deck.mechanism, "units", "in-lb-sec")
-    names = columns(kinematics_only, scene, torque_parts)
+    names = columns(kinematics_only, scene, torque_parts, deck.mechanism)
     wanted = names[1:]
     if json:
         import json as json_module
