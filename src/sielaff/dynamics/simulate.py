@@ -335,8 +335,11 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         if steady:
             t, th, w = _steady(accel, solve_ivp, brentq, th_start, w0, per_revolution,
                                method, rtol, atol_)
-            result.message = (f"periodic steady state: {float(np.mean(w)):.6g} rad/sec "
-                              f"mean, {float(np.min(w)):.6g} to {float(np.max(w)):.6g}")
+            period = float(t[-1])
+            result.message = (f"periodic steady state: a revolution in {period:.6g} s, mean "
+                              f"speed {TWO_PI / period:.6g} rad/sec (2 pi / period, the time "
+                              f"average), from {float(np.min(w)):.6g} to "
+                              f"{float(np.max(w)):.6g}")
         else:
             t, th, w = _transient(accel, solve_ivp, th_start, w0, revs, per_revolution,
                                   method, rtol, atol_, t_max, scale, result, tu)
@@ -419,6 +422,71 @@ def _transient(accel, solve_ivp, th0, w0, revs, per_rev, method, rtol, atol, t_m
     return t, y[0], y[1]
 
 
+#: The steady-state search steps its speed by this factor, at most STEADY_STEPS times each
+#: way (1.3^80: nine decades above or below the guess).
+STEADY_FACTOR, STEADY_STEPS = 1.3, 80
+
+
+def _bracket(f, w0, brentq, rtol):
+    """The start speed of the periodic motion: a zero of f (the speed a revolution gains,
+    None where the crank stalls within it), bracketed from the guess ``w0`` either way.
+
+    A revolution gains, loses, stalls, or changes the speed by no more than the
+    integration resolves (``100 rtol w``: flat).  A gain or a stall (too slow to pass the
+    hump) says "faster", a loss "slower"; the search steps by :data:`STEADY_FACTOR` that
+    way until the sign turns, then solves between a gain and a loss.  A zero is never
+    taken from a flat revolution alone: a motor that gains a little every revolution at
+    a high speed has no steady state, whatever the last digits of an integration say.
+    """
+    k = STEADY_FACTOR
+
+    def kind(v, w):
+        if v is None:
+            return "stall"
+        noise = 100.0 * rtol * w
+        return "gain" if v > noise else "loss" if v < -noise else "flat"
+
+    def solve(lo, hi):
+        return brentq(lambda x: f(x) or 0.0, lo, hi, xtol=1e-13 * hi,
+                      rtol=4.0 * np.finfo(float).eps)
+
+    c0 = kind(f(w0), w0)
+    up = c0 in ("gain", "stall")
+    if c0 == "flat":  # at the steady state already, or where f cannot tell: look around
+        below, above = kind(f(w0 / k), w0 / k), kind(f(w0 * k), w0 * k)
+        if below == "gain" and above == "loss":
+            return solve(w0 / k, w0 * k)
+        up = above in ("gain", "flat", "stall")
+    gained = w0 if c0 == "gain" else None
+    w = w0
+    for _ in range(STEADY_STEPS):
+        nxt = w * k if up else w / k
+        c = kind(f(nxt), nxt)
+        if up and c == "gain":
+            gained = nxt
+        elif up and c == "loss":
+            if gained is None:
+                raise SimulationError(
+                    f"steady: no periodic steady state: below {w:.6g} rad/sec the crank "
+                    f"stalls within a revolution and from {nxt:.6g} rad/sec it slows down")
+            return solve(gained, nxt)
+        elif not up and c == "stall":
+            raise SimulationError(
+                f"steady: no periodic steady state: the crank slows down from every speed "
+                f"down to {w:.6g} rad/sec, and below it stalls within a revolution; the "
+                "motor cannot carry the linkage")
+        elif not up and c == "gain":
+            return solve(nxt, w)
+        w = nxt
+    if up:
+        raise SimulationError(
+            f"steady: no periodic steady state: the crank gains speed every revolution from "
+            f"{w0:.6g} up to {w:.6g} rad/sec, or changes it by less than the integration "
+            "resolves (the motor's torque never falls to what the linkage takes)")
+    raise SimulationError(f"steady: no periodic steady state: the crank slows down every "
+                          f"revolution from {w0:.6g} down to {w:.6g} rad/sec")
+
+
 def _steady(accel, solve_ivp, brentq, th0, w0, per_rev, method, rtol, atol):
     """One revolution of the periodic motion through th0: shooting on its speed."""
     def rev(w_start, dense=False):
@@ -443,35 +511,7 @@ def _steady(accel, solve_ivp, brentq, th0, w0, per_rev, method, rtol, atol):
     if not w0 > 0.0:
         raise SimulationError(f"steady: speed0 = {w0:g} rad/sec: give a positive guess of "
                               "the mean speed")
-    tol = 100.0 * rtol * w0
-    f0 = f(w0)
-    lo = hi = w0
-    flo = fhi = f0
-    if f0 is None or abs(f0) > tol:
-        for _ in range(60):
-            if fhi is not None and fhi > 0.0:
-                hi *= 1.3
-                fhi = f(hi)
-                if fhi is not None and fhi <= 0.0:
-                    lo, flo = hi / 1.3, f(hi / 1.3)
-                    break
-            else:
-                lo /= 1.3
-                flo = f(lo)
-                if flo is not None and flo >= 0.0:
-                    hi = lo * 1.3
-                    break
-                if flo is None:
-                    raise SimulationError(
-                        f"steady: no periodic steady state: the crank slows down from "
-                        f"every speed down to {lo:.6g} rad/sec, where it stalls within a "
-                        "revolution; the motor cannot carry the linkage")
-        else:
-            raise SimulationError("steady: no periodic steady state found between "
-                                  f"{lo:.6g} and {hi:.6g} rad/sec")
-        ws = brentq(lambda x: f(x) or 0.0, lo, hi, xtol=1e-13 * hi, rtol=4.0 * np.finfo(float).eps)
-    else:
-        ws = w0
+    ws = _bracket(f, w0, brentq, rtol)
     sol = rev(ws, dense=True)
     if sol is None:
         raise SimulationError(f"steady: the crank stalls from {ws:.6g} rad/sec")

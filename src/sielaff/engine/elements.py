@@ -299,9 +299,8 @@ def _spec_point(where: str, p: Any, reader: Any) -> tuple[int, float, float]:
                            "angle = ... }})")
     p = reader.table(where, p)
     reader.unknown(where, p, ("link", "distance", "angle"))
-    link = p.get("link")
-    if isinstance(link, bool) or link not in POINT_LINKS:
-        raise reader.error(f"{where} link = {link!r}: frame, crank, coupler or rocker")
+    link = reader.name(f"{where} link", p.get("link"), POINT_LINKS,
+                       "frame, crank, coupler or rocker")
     return (POINT_LINKS[link], reader.number(f"{where} distance", p.get("distance", 0)),
             reader.number(f"{where} angle", p.get("angle", 0)))
 

@@ -145,9 +145,8 @@ def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
         where = f"{path}: [[scene.load]] {n}"
         item = reader.table(where, item)
         reader.unknown(where, item, ("link", "distance", "angle", "force", "torque"))
-        link = LINKS_BY_NAME.get(item.get("link"))
-        if link is None:
-            raise reader.error(f"{where} link = {item.get('link')!r}: crank, coupler or rocker")
+        link = LINKS_BY_NAME[reader.name(f"{where} link", item.get("link"), LINKS_BY_NAME,
+                                         "crank, coupler or rocker")]
         force = item.get("force", [0.0, 0.0])
         if not (isinstance(force, list) and len(force) == 2):
             raise reader.error(f"{where} force = {force!r}: [fx, fy]")

@@ -40,17 +40,14 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
     A missing, unknown or bad key is one line naming it.
     """
     from sielaff.dynamics.motor import Motor
-    from sielaff.tools.spec_fields import PunchError, _float, _table, _unknown
+    from sielaff.tools.spec_fields import PunchError, _float, _name, _table, _unknown
 
     where = f"{path}: [motor]"
     if "motor" not in spec:
         raise PunchError(f"{path}: no [motor] table (kind = \"constant\", \"linear\" or "
                          "\"induction\" and its parameters)")
     table = _table(where, spec["motor"])
-    kind = table.get("kind")
-    if kind not in MOTOR_KINDS:
-        raise PunchError(f"{where} kind = {kind!r}: \"constant\", \"linear\" or "
-                         "\"induction\"")
+    kind = _name(f"{where} kind", table.get("kind"), tuple(MOTOR_KINDS))
     _unknown(where, table, ("kind", *MOTOR_KINDS[kind], *MOTOR_RUN))
     params = []
     for key in MOTOR_KINDS[kind]:

@@ -118,6 +118,17 @@ def _table(where: str, value) -> dict:
     return value
 
 
+def _name(where: str, value, names, say: str | None = None):
+    """A spec's name (a unit system, a branch, a link, a kind): ``value`` if it is one of
+    ``names`` (strings, or the link numbers a link may also be), else one line naming
+    ``where`` and what it may be (``say``, or the names).  The one reader of names: a
+    list, a table or a boolean where a name stands is refused, never looked up."""
+    if isinstance(value, bool) or not isinstance(value, str | int) or value not in names:
+        choices = say or " or ".join(f'"{n}"' for n in names if isinstance(n, str))
+        raise PunchError(f"{where} = {value!r}: {choices}")
+    return value
+
+
 def _unknown(where: str, table: dict, known) -> None:
     extra = [k for k in table if k not in known]
     if extra:

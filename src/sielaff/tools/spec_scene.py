@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from sielaff.tools.spec_fields import PunchError, _float, _table, _unknown
+from sielaff.tools.spec_fields import PunchError, _float, _name, _table, _unknown
 
 if TYPE_CHECKING:
     from sielaff.engine.scene import Scene
@@ -31,6 +31,7 @@ class _Reader:
     """The spec's rules lent to an effect's reader (its errors are PunchErrors)."""
 
     number = staticmethod(_float)
+    name = staticmethod(_name)
     table = staticmethod(_table)
     unknown = staticmethod(_unknown)
 
@@ -65,14 +66,10 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
 
     scene = _table(f"{path}: [scene]", spec.get("scene", {}))
     _unknown(f"{path}: [scene]", scene, scene_keys())
-    units = scene.get("units", "in-lb-sec")
-    if units not in STANDARD_GRAVITY:
-        raise PunchError(f"{path}: [scene] units = {units!r}: {' or '.join(STANDARD_GRAVITY)}")
-    fields: dict = {}
-    branch = scene.get("branch", "open")
-    if branch not in ("open", "crossed"):
-        raise PunchError(f"{path}: [scene] branch = {branch!r}: \"open\" or \"crossed\"")
-    fields["branch"] = branch
+    units = _name(f"{path}: [scene] units", scene.get("units", "in-lb-sec"),
+                  tuple(STANDARD_GRAVITY), " or ".join(STANDARD_GRAVITY))
+    fields: dict = {"branch": _name(f"{path}: [scene] branch", scene.get("branch", "open"),
+                                    ("open", "crossed"))}
     for effect in _effects():
         fields.update(effect.spec.read(scene, path, _Reader))
     try:

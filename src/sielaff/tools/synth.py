@@ -87,6 +87,7 @@ def read_synthesis(spec: dict, path: str) -> dict:
     """The ``[synthesis]`` table checked: problem, params (list of dicts), ranking."""
     from sielaff.synthesis.rank import RANKABLE
     from sielaff.tools.spec import PunchError, spec_whole
+    from sielaff.tools.spec_fields import _name
 
     table = spec.get("synthesis")
     if not isinstance(table, dict) or not table:
@@ -95,9 +96,8 @@ def read_synthesis(spec: dict, path: str) -> dict:
     extra = [k for k in table if k not in KEYS]
     if extra:
         raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(KEYS)})")
-    problem = table.get("problem")
-    if problem not in PROBLEMS:
-        raise PunchError(f"{where} problem = {problem!r}: one of {', '.join(PROBLEMS)}")
+    problem = _name(f"{where} problem", table.get("problem"), tuple(PROBLEMS),
+                    f"one of {', '.join(PROBLEMS)}")
     params = table.get(problem, {})
     if not isinstance(params, dict):
         raise PunchError(f"{where}.{problem}: expected a table")
