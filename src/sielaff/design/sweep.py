@@ -33,11 +33,21 @@ from sielaff.design.figures import FIGURES, figures
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 
-__all__ = ["BLOCK", "NO_WORKER_SECONDS", "SENSES", "SWEEPABLE", "ClusterLost", "Grid",
+__all__ = ["BLOCK", "BLOCK_MEMORY", "BYTES_PER_POSITION", "MAX_ANGLES", "NO_WORKER_SECONDS",
+           "SENSES", "SWEEPABLE", "ClusterLost", "Grid",
            "block", "column_units", "iter_blocks", "pareto_pair", "sweep_frame"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
+#: The memory one block's figures may take [bytes].
+BLOCK_MEMORY = 1 << 30
+#: The most one position of one design costs the figures [bytes]: 218 measured with the
+#: 1966 scene, 699 with every effect at its limit (8 springs, 8 dampers, 5 loads, pin
+#: friction, gravity, TEX, TH2DD); tests/test_size_bounds.py measures it again.
+BYTES_PER_POSITION = 1024
+#: The most crank angles a sweep, a tolerance study or a synthesis ranking takes: a block
+#: of BLOCK designs within BLOCK_MEMORY (4096).
+MAX_ANGLES = BLOCK_MEMORY // (BLOCK * BYTES_PER_POSITION)
 SWEEPABLE = tuple(FIELD_NAMES) + ("TEX", "BALANCE", "CW_R2", "CW_R4")
 #: Swept names that are not mechanism fields.
 _OTHER = ("TEX", "BALANCE", "CW_R2", "CW_R4")

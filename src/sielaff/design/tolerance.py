@@ -192,8 +192,9 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
             raise ValueError(f"tolerance: deviation of {f} = {s:g}: finite and 0 or more")
     if distribution not in DISTRIBUTIONS:
         raise ValueError(f"tolerance: distribution = {distribution!r}: 'normal' or 'uniform'")
-    if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_SAMPLES):
-        raise ValueError(f"tolerance: n = {n!r}: a whole number of samples, 1 to {MAX_SAMPLES}")
+    if not (isinstance(n, int) and not isinstance(n, bool) and 2 <= n <= MAX_SAMPLES):
+        raise ValueError(f"tolerance: n = {n!r}: a whole number of samples, 2 to "
+                         f"{MAX_SAMPLES} (one sample has no spread)")
     if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
         raise ValueError(f"tolerance: seed = {seed!r}: a whole number, 0 or more")
     if not (isinstance(angles, int) and angles >= 8 and angles % 2 == 0):

@@ -13,17 +13,22 @@ own size: per position the fixed point
 is iterated from the frictionless pin forces F0 (C: the pin forces the couples T take)
 until no pin's torque changes by more than ``tol`` times the largest at that position,
 at most ``max_iter`` times.  The map contracts when ``mu r`` is small beside the links
-and the transmission is good; near a toggle (sin(th3 - th4) -> 0) C grows without bound,
-the iteration diverges, and those positions are NaN in every output friction changes
-(``FRICTION_STATUS`` 2, and a :class:`FrictionWarning` says how many).  A pin whose
-relative rotation is exactly zero (a crank at rest, a rocker at its dead point) has
-static friction of unknown size, taken as zero there (``FRICTION_STATUS`` 1).
+and the transmission is good (friction_solve.contraction below 1: then the law has one
+solution).  Elsewhere (near a toggle, where sin(th3 - th4) -> 0 and C grows without
+bound) :mod:`sielaff.engine.friction_solve` solves the law by Newton, finds every
+solution it has (``FRICTION_SOLUTIONS``) and takes the one continuous from mu = 0
+(``FRICTION_STATUS`` 0), or the least friction of the others (3); only where none exists
+does the linkage self-lock: NaN in every output friction changes (``FRICTION_STATUS``
+2, and a :class:`FrictionWarning` says how many).  A pin whose relative rotation is
+exactly zero (a crank at rest, a rocker at its dead point) has static friction of
+unknown size, taken as zero there (``FRICTION_STATUS`` 1).
 
 Friction is not superposable: the effect ``corrects`` the model's totals (pin forces
 and TORQ) after the other effects are summed.  Outputs: ``TORQ_FRICTION`` (TORQ with
 friction less TORQ without), ``PLOSS_O2``, ``PLOSS_A``, ``PLOSS_B``, ``PLOSS_O4`` (each
 pin's friction power loss, ``mu r |F| |relative rotation|`` with the reported pin force,
->= 0, in-lb/sec or W), ``FRICTION_ITERATIONS`` and ``FRICTION_STATUS``.  With mu = 0 at
+>= 0, in-lb/sec or W), ``FRICTION_ITERATIONS`` (0 where the fixed point did not give the
+answer), ``FRICTION_STATUS`` and ``FRICTION_SOLUTIONS``.  With mu = 0 at
 every pin (or no friction) no step here runs and every output is bit for bit as
 without friction.
 """
@@ -38,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
+from sielaff.engine.friction_solve import contraction, solve
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import check_value
@@ -135,7 +141,7 @@ def couples(t, sg):
 
 @step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
                 "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4",
-                "FRICTION_ITERATIONS", "FRICTION_STATUS"),
+                "FRICTION_ITERATIONS", "FRICTION_STATUS", "FRICTION_SOLUTIONS"),
       needs=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4", "friction_tol", "friction_max_iter",
              "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0",
              "FOBY_0", "TH2D", "TH3D", "TH4D", "R2", "R3", "R4", "c2", "s2", "c3", "s3",
@@ -185,23 +191,48 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
         if not idx.size:
             break
     status = np.where(np.any(np.array(sg) == 0.0, axis=0), 1.0, 0.0)
-    failed = iterations == 0.0
     finite = np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0)
-    bad = failed & finite
-    status[bad] = 2.0
-    for x in corr:
-        x[failed] = np.nan
+    solutions = np.where(finite, 1.0, 0.0)
+    # where the law need not be a contraction, every solution it has (friction_solve.py)
+    mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
+    with np.errstate(all="ignore"):
+        hard = np.flatnonzero(finite & ~(contraction(mur, geo_f[1], geo_f[2], geo_f[9]) < 1.0))
+    if hard.size:
+        pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
+        x, count, found = solve(pairs, mur, [s_[hard] for s_ in sg],
+                                *[geo_f[j][hard] for j in (1, 2, 5, 6, 7, 8, 9)])
+        solutions[hard] = count
+        fixed = np.stack([corr[2][hard], corr[3][hard]], axis=-1)  # the fixed point's x
+        same = (iterations[hard] > 0.0) & (found == 0.0) & (
+            np.hypot(*(fixed - np.nan_to_num(x)).T)
+            <= 1e-8 * (np.hypot(*fixed.T) + np.hypot(*pairs[1].T)))
+        new = hard[~same]  # the fixed point's answer is kept where it is the continuous one
+        xn = x[~same]
+        t_new = torques([f0_f[j][new] + (xn[:, j % 2] * (1.0 if j in (2, 3, 6, 7) else -1.0))
+                         for j in range(8)])
+        c = forces(t_new, new)
+        for i in range(9):
+            corr[i][new] = c[i]
+        iterations[new] = 0.0
+        status[new] = np.where(found[~same] == 0.0, status[new], found[~same])
+    failed = ~finite | (status == 2.0)
+    for x_ in corr:
+        x_[failed] = np.nan
+    bad = finite & (status >= 2.0)
     if np.any(bad):
-        warnings.warn(f"pin friction did not converge at {int(np.count_nonzero(bad))} of {n} "
-                      "positions (near a toggle the pin forces grow without bound): their "
-                      "results are NaN (FRICTION_STATUS 2)", FrictionWarning, stacklevel=2)
+        none = int(np.count_nonzero(status == 2.0))
+        other = int(np.count_nonzero(status == 3.0))
+        warnings.warn(f"pin friction at {n} positions: {none} have no solution of the "
+                      f"friction law (self-locking: NaN, FRICTION_STATUS 2), {other} only "
+                      "solutions not reached from mu = 0 (the least friction taken, "
+                      "FRICTION_STATUS 3)", FrictionWarning, stacklevel=2)
     # each pin's loss from the reported force: mu r |F| |relative rotation|
     final = torques([f0_f[i] + corr[i] for i in range(8)])
     rel = [np.abs(flat(w)) for w in (TH2D, TH3D - TH2D, TH4D - TH3D, TH4D)]
     loss = [np.where(sg[i] == 0.0, 0.0, final[i] * rel[i]) for i in range(4)]
     for x in loss:
         x[failed] = np.nan
-    out = corr + loss + [iterations, status]
+    out = corr + loss + [iterations, status, solutions]
     return tuple(x.reshape(shape) for x in out)
 
 
@@ -250,9 +281,12 @@ def _figures(r: Any, scene: Any, units: str, speed: float) -> list[Fact]:
     facts.append(Fact("loss in all", "mean", total, "power"))
     if speed:
         facts.append(Fact("loss in all", "per revolution", total * 2.0 * np.pi / speed, "work"))
-    failed = int(np.count_nonzero(np.asarray(r["FRICTION_STATUS"]) == 2.0))
-    if failed:
-        facts.append(Fact("not converged", "positions of the grid (NaN)", str(failed)))
+    status = np.asarray(r["FRICTION_STATUS"])
+    for code, words in ((2.0, "self-locking (no solution: NaN)"),
+                        (3.0, "solved off the branch from mu = 0")):
+        n = int(np.count_nonzero(status == code))
+        if n:
+            facts.append(Fact(words, "positions of the grid", str(n)))
     return facts
 
 
@@ -337,12 +371,16 @@ EFFECT = Effect("pin friction", (step_of(_friction),), _seed, torque="TORQ_FRICT
                          "FRICTION_ITERATIONS": ("number",
                                                  "iterations of the pin-friction fixed point"),
                          "FRICTION_STATUS": ("number", "pin friction: 0 solved, 1 a relative "
-                                                       "rotation is zero, 2 not converged (NaN)")},
+                                                       "rotation is zero, 2 no solution "
+                                                       "(self-locking, NaN), 3 a solution not "
+                                                       "reached from mu = 0"),
+                         "FRICTION_SOLUTIONS": ("number", "how many solutions the friction "
+                                                          "law has at the position")},
                 on=has_friction, summary=lambda scene, units: "pin friction",
                 describe=_describe,
                 figure_outputs=lambda scene: tuple(f"PLOSS_{p}" for p in PINS)
                 + ("FRICTION_STATUS",),
                 figures=_figures,
                 columns=lambda scene: ("TORQ_FRICTION",) + tuple(f"PLOSS_{p}" for p in PINS)
-                + ("FRICTION_STATUS",),
+                + ("FRICTION_STATUS", "FRICTION_SOLUTIONS"),
                 spec=SpecForm(("friction",), _read, _write, _HELP))

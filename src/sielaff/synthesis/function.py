@@ -68,6 +68,13 @@ class FunctionGenerator:
     max_error: float
 
 
+#: The most positions the structural error is computed at: a kinematic analysis of that
+#: many positions, some tens of arrays of 8 MB.
+MAX_SAMPLES = 1_000_000
+#: The most precision points: a least-squares fit of that many equations.
+MAX_POINTS = 10_000
+
+
 def chebyshev(x0: float, x1: float, n: int) -> np.ndarray:
     """``n`` Chebyshev-spaced points in [x0, x1] (module doc), increasing from x0."""
     j = np.arange(1, n + 1)
@@ -117,7 +124,13 @@ def function(f: Callable, x_range: Sequence[float], input_range: Sequence[float]
                              "360 deg")
     if not frame > 0:
         raise ValueError(f"frame = {frame:g}: R1 must be positive")
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer) \
+            or not 2 <= samples <= MAX_SAMPLES:
+        raise ValueError(f"samples = {samples!r}: a whole number from 2 to {MAX_SAMPLES} "
+                         "(the structural error's positions, docs/robustness.md)")
     if isinstance(points, int | np.integer):
+        if not points <= MAX_POINTS:
+            raise ValueError(f"points = {points}: at most {MAX_POINTS} precision points")
         if points < 3:
             raise ValueError(f"points = {points}: three or more precision points are needed")
         xp = chebyshev(x0, x1, int(points))

@@ -54,6 +54,11 @@ _PENALTY = 10.0  # weight of the loop-closure violation against distances (both 
 _EXACT = 1e-10   # a fit whose targets all lie this close (times the targets' extent) is exact
 
 
+#: The most starts of the search: each is one least-squares fit of at most 60 evaluations
+#: per unknown, so the time is bounded by the count.
+MAX_STARTS = 1000
+
+
 def path(points: Sequence[Sequence[float]], *, crank_angles: Sequence[float] | None = None,
          starts: int = 40, seed: int = 0, th2d: float = 1.0,
          units: str = "in-lb-sec") -> CouplerLinkage:
@@ -79,6 +84,10 @@ def path(points: Sequence[Sequence[float]], *, crank_angles: Sequence[float] | N
     Raises ValueError with one line for bad targets or when no start gives a linkage
     without defects; ModuleNotFoundError when scipy is not installed.
     """
+    if isinstance(starts, bool) or not isinstance(starts, int | np.integer) \
+            or not 1 <= starts <= MAX_STARTS:
+        raise ValueError(f"starts = {starts!r}: a whole number from 1 to {MAX_STARTS} (each "
+                         "start one bounded least-squares fit, docs/robustness.md)")
     try:
         from scipy.optimize import least_squares
     except ImportError:

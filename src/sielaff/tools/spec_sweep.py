@@ -31,7 +31,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     """
     import numpy as np
 
-    from sielaff.design.sweep import SWEEPABLE, pareto_pair
+    from sielaff.design.sweep import MAX_ANGLES, SWEEPABLE, pareto_pair
 
     table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
     if not table:
@@ -39,9 +39,10 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     _unknown(f"{path}: [sweep]", table, SWEEP_KEYS)
     angles = table.get("angles", 360)
     if not (isinstance(angles, int) and not isinstance(angles, bool) and 8 <= angles
-            <= 100_000 and angles % 2 == 0):
+            <= MAX_ANGLES and angles % 2 == 0):
         raise PunchError(f"{path}: [sweep] angles = {angles!r}: an even whole number "
-                         "from 8 to 100000")
+                         f"from 8 to {MAX_ANGLES} (a block of designs within its memory "
+                         "bound, docs/robustness.md)")
     cf = float(_number(f"{path}: [sweep] cf", table.get("cf", Decimal("0.05"))))
     if not 0.0 < cf < 2.0:
         raise PunchError(f"{path}: [sweep] cf = {cf:g}: between 0 and 2 (0.05 is usual)")

@@ -85,6 +85,7 @@ def _function(name: Any):
 
 def read_synthesis(spec: dict, path: str) -> dict:
     """The ``[synthesis]`` table checked: problem, params (list of dicts), ranking."""
+    from sielaff.design.sweep import MAX_ANGLES
     from sielaff.synthesis.rank import RANKABLE
     from sielaff.tools.spec import PunchError, spec_whole
     from sielaff.tools.spec_fields import _name
@@ -136,7 +137,7 @@ def read_synthesis(spec: dict, path: str) -> dict:
             raise PunchError(f"{where} {key} = {v!r}: a non-zero number between {lo:g} "
                              f"and {hi:g}")
         out[key] = float(v)
-    for key, default, lo, hi in (("angles", 360, 8, 100_000), ("best", 1, 0, 1000)):
+    for key, default, lo, hi in (("angles", 360, 8, MAX_ANGLES), ("best", 1, 0, 1000)):
         out[key] = spec_whole(where, key, table.get(key, default), lo, hi, key == "angles")
     model = {}
     for key in ("density", "area"):

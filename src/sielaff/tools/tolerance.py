@@ -28,6 +28,7 @@ KEYS = ("n", "seed", "distribution", "angles", "cf", "deviations")
 
 def read_tolerance(spec: dict, path: str) -> dict:
     """The ``[tolerance]`` table checked (PunchError naming the key)."""
+    from sielaff.design.sweep import MAX_ANGLES
     from sielaff.design.tolerance import DISTRIBUTIONS, MAX_SAMPLES
     from sielaff.mechanism import FIELD_NAMES
     from sielaff.tools.spec import PunchError, spec_whole
@@ -40,8 +41,8 @@ def read_tolerance(spec: dict, path: str) -> dict:
     if extra:
         raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(KEYS)})")
     out = {}
-    for key, default, lo, hi in (("n", 1000, 1, MAX_SAMPLES), ("seed", 0, 0, 2 ** 63 - 1),
-                                 ("angles", 360, 8, 100_000)):
+    for key, default, lo, hi in (("n", 1000, 2, MAX_SAMPLES), ("seed", 0, 0, 2 ** 63 - 1),
+                                 ("angles", 360, 8, MAX_ANGLES)):
         out[key] = spec_whole(where, key, table.get(key, default), lo, hi, key == "angles")
     dist = table.get("distribution", "normal")
     if dist not in DISTRIBUTIONS:

@@ -176,11 +176,14 @@ def hard_cases() -> list[dict]:
         th = reachable(m, 3600)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", FrictionWarning)
-            r = analyze(m, th, ["FRICTION_STATUS"], scene=Scene(friction=PinFriction(0.3, 1.0)))
+            r = analyze(m, th, ["FRICTION_STATUS", "FRICTION_SOLUTIONS"],
+                        scene=Scene(friction=PinFriction(0.3, 1.0)))
         bad = int(np.count_nonzero(r["FRICTION_STATUS"] == 2))
+        several = int(np.count_nonzero(r["FRICTION_SOLUTIONS"] >= 2))
         return (f"a double-rocker over 3600 reachable angles, mu r = 0.3: {bad} positions "
-                "next to its toggles do not converge (NaN, FRICTION_STATUS 2, one "
-                "FrictionWarning)")
+                "next to its toggles have no solution of the friction law (self-locking: "
+                f"NaN, FRICTION_STATUS 2, one FrictionWarning); {several} have two, the one "
+                "continuous from mu = 0 taken")
 
     def no_solution():
         try:
