@@ -87,7 +87,8 @@ LONGEST_FIRST = ("test_compiled.py", "test_ibm1410.py", "test_report.py", "test_
                  "test_punch.py", "test_effects.py", "test_classify.py",
                  "test_simulate_friction.py", "test_interpreter_and_reader_limits.py",
                  "test_design_answers_in_the_tools.py", "test_run_failures.py",
-                 "test_effect_declarations.py")
+                 "test_effect_declarations.py", "test_spec_names.py",
+                 "test_friction_solutions.py", "test_steady_state.py")
 
 
 def pytest_collection_modifyitems(session, config, items):

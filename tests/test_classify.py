@@ -266,3 +266,11 @@ def test_point_rates_are_the_derivatives_of_its_path(branch):
         np.testing.assert_allclose(p["V" + axis], d1, atol=1e-7 * np.max(np.abs(d1)))
         np.testing.assert_allclose(p["A" + axis], d2, atol=1e-6 * scale)
     assert p["X"].shape == (2, n)
+
+
+@pytest.mark.parametrize("field, value", [("R1", float("nan")), ("R3", float("inf")),
+                                          ("R2", 0.0), ("R4", -1.0)])
+def test_a_length_no_linkage_has_gets_no_kind(field, value):
+    """A NaN frame used to answer "triple-rocker" (issue 32): now one line naming it."""
+    with pytest.raises(ValueError, match=f"{field} = .*a link length is a finite number"):
+        linkage_class(EXAMPLE.replace(**{field: value}))

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import procs
 from conftest import DECKS
 from sielaff.cli import main
 from sielaff.emulator.cards import parse_deck, read_field_decimal
@@ -290,3 +291,17 @@ def test_punch_error_status():
     with pytest.raises(PunchError) as exc:
         punch_deck_text(with_value("R2", "14.0"))
     assert exc.value.status == 3
+
+
+def test_punch_says_which_tables_the_deck_leaves_out(tmp_path):
+    """A spec's [scene] and [motor] cannot go on cards: punch writes the deck and one
+    warning naming them (issue 32: it used to drop them without a word)."""
+    r = procs.run(["punch", str(DECKS / "friction.toml"), "-o", str(tmp_path / "f.dat")],
+                  text=True)
+    assert r.returncode == 0
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sielaff: warning: ")
+    assert "leaves out [scene], [motor]" in lines[0]
+    r = procs.run(["punch", str(DECKS / "example.toml"), "-o", str(tmp_path / "e.dat")],
+                  text=True)
+    assert r.returncode == 0 and r.stderr == ""

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from conftest import DECKS, ROOT
 from procs import run
 
@@ -130,3 +132,13 @@ def test_check_json_and_output_file(tmp_path):
     assert r.returncode == 0 and r.stdout == "" and "Verdict: usable" in out.read_text()
     r = sielaff("check", DECKS / "example.dat", "-o", "-", timeout=300)
     assert r.stdout == out.read_text()
+
+
+@pytest.mark.parametrize("at", ["nan", "inf", "1e99"])
+def test_report_at_an_angle_that_is_not_one_is_refused(tmp_path, at):
+    """``report --at nan`` used to exit 0 (issue 32): the option's type refuses it, exit 2,
+    and no page is written."""
+    r = run(["report", str(DECKS / "example.dat"), "-o", str(tmp_path / "r.html"),
+             "--at", at], text=True)
+    assert r.returncode == 2 and "--at" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "r.html").exists()

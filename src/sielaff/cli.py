@@ -87,6 +87,14 @@ def angle_list(text: str) -> tuple[float, ...]:
     return values
 
 
+def one_angle(text: str) -> float:
+    """argparse type for one crank angle in degrees: a finite number."""
+    values = angle_list(text)
+    if len(values) != 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one angle (40)")
+    return values[0]
+
+
 def point_spec(text: str) -> tuple[int, float, float]:
     """argparse type for ``--point``: LINK:R:ANGLE."""
     try:
@@ -396,8 +404,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("-o", "--output", required=True, metavar="FILE.html",
                    help="write the page here (atomically; - for stdout)")
-    p.add_argument("--at", type=float, default=40.0, metavar="DEG",
-                   help="the crank angle the linkage is drawn at (default 40)")
+    p.add_argument("--at", type=one_angle, default=40.0, metavar="DEG",
+                   help="the crank angle the linkage is drawn at, deg (default 40)")
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly (default: the spec's [scene] branch, else open)")
 

@@ -44,6 +44,7 @@ f(w0) = w(start + 360 deg) - w0 (scipy.optimize.brentq), integrating in the cran
 from __future__ import annotations
 
 import math
+import time
 import warnings
 from collections.abc import Callable, Iterable
 from typing import Any
@@ -62,6 +63,10 @@ __all__ = ["Simulation", "simulate"]
 TWO_PI = 2.0 * math.pi
 #: Evaluations of the equation of motion allowed per run: a bound on time, never a hang.
 MAX_EVALUATIONS = 400_000
+#: The CPU seconds a run may take: when the tables do not fit (friction near a change
+#: point) every state goes through the engine, some 30 ms each, and the evaluations'
+#: bound alone would allow hours.
+MAX_CPU_SECONDS = 300.0
 #: Largest Fourier grid tried for the tables (beyond: the engine at each state).
 MAX_GRID = 16384
 
@@ -94,6 +99,10 @@ class Simulation(dict):
 
 class SimulationError(ValueError):
     """A simulation that cannot be run or has no answer (one line)."""
+
+
+class _TooSlow(Exception):
+    """The run passed MAX_CPU_SECONDS."""
 
 
 class _TooLong(Exception):
@@ -225,10 +234,19 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
     if sc.per_position():
         raise SimulationError("simulate: the scene's values must be constants or "
                               "functions, not arrays over crank angles")
+    if not isinstance(mechanism, Mechanism):
+        raise SimulationError(f"mechanism = {mechanism!r}: a sielaff.Mechanism")
     validate(mechanism)
     for name, v in mechanism.as_dict().items():
         if np.ndim(v):
             raise SimulationError(f"simulate runs one design: {name} is an array")
+    if not isinstance(steady, bool | np.bool_):
+        raise SimulationError(f"steady = {steady!r}: True or False")
+    for name, v, what in (("atol", atol, "rtol times the speed scale"),
+                          ("t_max", t_max, "100 times the time of the revolutions")):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, int | float)
+                              or not math.isfinite(v) or not v > 0.0):
+            raise SimulationError(f"{name} = {v!r}: a positive number, or None ({what})")
     if not callable(motor):
         raise SimulationError(f"motor = {motor!r}: a function of TH2D (sielaff.Motor)")
     f_in = _check_speed("flywheel", flywheel)
@@ -273,6 +291,10 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         per iteration for every state still short of 1e-12 of its torque scale."""
         theta, w = np.atleast_1d(theta).astype(float), np.atleast_1d(w).astype(float)
         mt = np.asarray(motor(w), dtype=float) * np.ones_like(w)
+        if not np.all(np.isfinite(mt)):
+            k = int(np.argmax(~np.isfinite(mt)))
+            raise SimulationError(f"the motor's torque at {w[k]:.6g} rad/sec is {mt[k]!r}: "
+                                  "not a number")
         if ftab is not None:
             try:
                 return ftab.accel(theta, w, mt)
@@ -314,10 +336,19 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
                                       f"{w[k]:.6g} rad/sec")
         return a
 
+    cpu0 = time.process_time()
+
     def accel(theta: float, w: float) -> float:
         count[0] += 1
         if count[0] > MAX_EVALUATIONS:
             raise _TooLong
+        if count[0] % 256 == 0 and time.process_time() - cpu0 > MAX_CPU_SECONDS:
+            raise _TooSlow
+        if tab is not None:
+            mt = float(np.asarray(motor(w)))
+            if not math.isfinite(mt):
+                raise SimulationError(f"the motor's torque at {w:.6g} rad/sec is {mt!r}: "
+                                      "not a number")
         if tab is not None:
             mt = float(np.asarray(motor(w)))
             jj, b, c, d = tab(theta)
@@ -344,9 +375,16 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
             t, th, w = _transient(accel, solve_ivp, th_start, w0, revs, per_revolution,
                                   method, rtol, atol_, t_max, scale, result, tu)
     except _TooLong:
+        other = "'Radau' or 'BDF'" if method == "LSODA" else "'LSODA', 'Radau' or 'BDF'"
         raise SimulationError(f"simulate: more than {MAX_EVALUATIONS} evaluations of the "
                               f"equation of motion (method {method}, rtol {rtol:g}): a "
-                              "stiff motor wants method='LSODA', 'Radau' or 'BDF'") from None
+                              f"stiff motor wants method={other}, or a looser rtol") from None
+    except _TooSlow:
+        how = ("the engine at every state (the friction tables do not fit this linkage)"
+               if result.mode == "engine" else "the tables")
+        raise SimulationError(f"simulate: more than {MAX_CPU_SECONDS:g} s of CPU after "
+                              f"{count[0]} evaluations of the equation of motion by {how}: "
+                              "fewer revolutions, a looser rtol or less friction") from None
     result.evaluations = count[0]
     a = accel_many(th, w) if tab is None else _accel_table(tab, motor, f_in, th, w)
     result["t"] = t

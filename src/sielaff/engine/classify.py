@@ -56,6 +56,11 @@ def linkage_class(m: Mechanism) -> LinkageClass:
     R1, R2, R3, R4 = np.broadcast_arrays(*(np.asarray(getattr(m, n), dtype=float)
                                            for n in ("R1", "R2", "R3", "R4")))
     lengths = np.stack([R1, R2, R3, R4])  # frame, crank, coupler, rocker
+    bad = ~(np.isfinite(lengths) & (lengths > 0.0))
+    if np.any(bad):  # no kind is the answer for a length no linkage has
+        k = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        raise ValueError(f"linkage_class: {('R1', 'R2', 'R3', 'R4')[k[0]]} = "
+                         f"{float(lengths[k]):g}: a link length is a finite number > 0")
     s, lng = lengths.min(axis=0), lengths.max(axis=0)
     total = lengths.sum(axis=0)
     sl = s + lng
