@@ -202,3 +202,38 @@ def test_the_scene_deck_reads_as_its_text_says():
     for load, t in zip(sc.loads, text["load"]):
         assert (load.r, load.angle) == (t.get("distance", 0.0), t.get("angle", 0.0))
         assert (load.fx, load.fy) == tuple(t.get("force", [0.0, 0.0]))
+
+
+def _variant(tmp_path, old_new):
+    text = FRICTION_DECK.read_text()
+    for old, new in old_new:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / "v.toml"
+    path.write_text(text)
+    return path
+
+
+def test_friction_that_self_locks_is_said_so_in_one_line(tmp_path, capsys):
+    """mu r = 6 in on the example: the law has no solution at some angles; the one line
+    says so (it used to say FA32 = nan lb was past the 1410's range), no warning besides."""
+    spec = _variant(tmp_path, [("mu = 0.1 ", "mu = 1.0 "), ("radius = 0.25 ", "radius = 6.0 ")])
+    status, _, err = run_cli(["check", str(spec)], capsys)
+    assert status == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "the friction law has no solution at THETA 2 = " in lines[0]
+    assert "self-locks" in lines[0] and "1410" not in lines[0]
+
+
+def test_a_spring_of_length_zero_is_said_so_in_one_line(tmp_path, capsys):
+    """A spring from 4 in along the crank (pin A) to 0 in along the coupler (pin A too):
+    its length is 0 everywhere, its direction undefined."""
+    spec = _variant(tmp_path, [
+        ('a = { link = "frame", distance = 18.0, angle = 0.0 }',
+         'a = { link = "crank", distance = 4.0, angle = 0.0 }'),
+        ('b = { link = "rocker", distance = 6.0, angle = 0.0 }',
+         'b = { link = "coupler", distance = 0.0, angle = 0.0 }')])
+    status, _, err = run_cli(["check", str(spec)], capsys)
+    assert status == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "spring 1 has its two points at one place" in lines[0]

@@ -308,9 +308,9 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         bad = ~np.isfinite(q[: len(w)] + q[len(w):])
         if np.any(bad):
             k = int(np.argmax(bad))
-            raise SimulationError(f"the friction iteration does not converge at THETA 2 = "
+            raise SimulationError(f"pin friction has no solution at THETA 2 = "
                                   f"{deg[k] % 360.0:.6g} deg, TH2D = {w[k]:.6g} rad/sec "
-                                  "(the pin forces grow without bound)")
+                                  "(the linkage self-locks there with this friction)")
         q0, jj = q[: len(w)], q[len(w):] - q[: len(w)]
         a = (mt - q0) / (jj + f_in)
         if nonlinear:

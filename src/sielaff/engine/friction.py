@@ -141,7 +141,7 @@ def couples(t, sg):
 
 @step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
                 "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4",
-                "FRICTION_ITERATIONS", "FRICTION_STATUS", "FRICTION_SOLUTIONS"),
+                "FRICTION_ITERATIONS", "FRICTION_STATUS"),
       needs=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4", "friction_tol", "friction_max_iter",
              "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0",
              "FOBY_0", "TH2D", "TH3D", "TH4D", "R2", "R3", "R4", "c2", "s2", "c3", "s3",
@@ -192,16 +192,14 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
             break
     status = np.where(np.any(np.array(sg) == 0.0, axis=0), 1.0, 0.0)
     finite = np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0)
-    solutions = np.where(finite, 1.0, 0.0)
     # where the law need not be a contraction, every solution it has (friction_solve.py)
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
     with np.errstate(all="ignore"):
         hard = np.flatnonzero(finite & ~(contraction(mur, geo_f[1], geo_f[2], geo_f[9]) < 1.0))
     if hard.size:
         pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
-        x, count, found = solve(pairs, mur, [s_[hard] for s_ in sg],
-                                *[geo_f[j][hard] for j in (1, 2, 5, 6, 7, 8, 9)])
-        solutions[hard] = count
+        x, _, found = solve(pairs, mur, [s_[hard] for s_ in sg],
+                            *[geo_f[j][hard] for j in (1, 2, 5, 6, 7, 8, 9)])
         fixed = np.stack([corr[2][hard], corr[3][hard]], axis=-1)  # the fixed point's x
         same = (iterations[hard] > 0.0) & (found == 0.0) & (
             np.hypot(*(fixed - np.nan_to_num(x)).T)
@@ -232,8 +230,41 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
     loss = [np.where(sg[i] == 0.0, 0.0, final[i] * rel[i]) for i in range(4)]
     for x in loss:
         x[failed] = np.nan
-    out = corr + loss + [iterations, status, solutions]
+    out = corr + loss + [iterations, status]
     return tuple(x.reshape(shape) for x in out)
+
+
+@step(provides=("FRICTION_SOLUTIONS",),
+      needs=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4", "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0",
+             "FOAX_0", "FOAY_0", "FOBX_0", "FOBY_0", "TH2D", "TH3D", "TH4D", "R3", "R4", "c3",
+             "s3", "c4", "s4", "s34"),
+      zero_when=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"))
+def _friction_solutions(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0,
+                        FOAX_0, FOAY_0, FOBX_0, FOBY_0, TH2D, TH3D, TH4D, R3, R4, c3, s3, c4,
+                        s4, s34):
+    """How many solutions the law has at each position: 1 where it contracts (proved),
+    else the search's count (friction_solve.py); asked for, it runs the search everywhere
+    the law need not contract, which the solve itself does only where it must."""
+    geo = (R3, R4, c3, s3, c4, s4, s34)
+    f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
+    shape = np.broadcast_shapes(*(np.shape(x) for x in f0 + geo + (TH2D, TH3D, TH4D)))
+
+    def flat(x):
+        return np.broadcast_to(np.asarray(x, dtype=float), shape).reshape(-1)
+
+    geo_f, f0_f = [flat(x) for x in geo], [flat(x) for x in f0]
+    sg = [flat(x) for x in _signs(TH2D, TH3D, TH4D)]
+    mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
+    finite = np.all(np.isfinite(np.array(f0_f + geo_f)), axis=0)
+    count = np.where(finite, 1.0, 0.0)
+    with np.errstate(all="ignore"):
+        hard = np.flatnonzero(finite & ~(contraction(mur, geo_f[0], geo_f[1], geo_f[6]) < 1.0))
+    if hard.size:
+        pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
+        R3_, R4_, c3_, s3_, c4_, s4_, s34_ = (g[hard] for g in geo_f)
+        count[hard] = solve(pairs, mur, [s_[hard] for s_ in sg], R3_, R4_, c3_, s3_, c4_,
+                            s4_, s34_, count_all=True)[1]
+    return count.reshape(shape)
 
 
 def mu_r(scene: Any) -> dict[str, float]:
@@ -355,7 +386,8 @@ max_iter = 100                # ... and its iterations (PinFriction)
 # [scene.friction.O2]  mu = 0.1  radius = 0.5      (pins O2, A, B, O4)"""
 
 
-EFFECT = Effect("pin friction", (step_of(_friction),), _seed, torque="TORQ_FRICTION",
+EFFECT = Effect("pin friction", (step_of(_friction), step_of(_friction_solutions)), _seed,
+                torque="TORQ_FRICTION",
                 corrects={**{t: t.lower() + "_f" for t in TOTALS[:-1]},
                           "TORQ": "TORQ_FRICTION"},
                 switch=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"),

@@ -19,7 +19,7 @@ effect's own iteration, kept bit for bit there).  Where s >= 1 (near a toggle, o
 large beside the links) this module looks for all of them:
 
 * **the continuous one**: x followed from the frictionless x = 0 as mu grows from 0 to its
-  value (64 steps of Newton on H scaled by lambda), given up where the branch folds (the
+  value (16 steps of Newton on H scaled by lambda), given up where the branch folds (the
   Jacobian's determinant, 1 at mu = 0, reaches 0) or Newton fails;
 * **every one**: Newton from 64 directions x 25 magnitudes (1e-4 to 1e8 times the
   frictionless pin forces, and the continuous one), the converged roots merged where
@@ -42,7 +42,7 @@ import numpy as np
 __all__ = ["contraction", "solve"]
 
 #: Continuation steps from mu = 0 to mu, Newton steps per continuation step.
-STEPS, STEP_NEWTON = 64, 8
+STEPS, STEP_NEWTON = 16, 5
 #: Newton steps from each start of the search for every solution.
 NEWTON = 60
 #: Directions and magnitudes of the starts (magnitudes 1e-4 .. 1e8 times the scale).
@@ -93,10 +93,13 @@ def _newton_step(x, h, jac):
 
 def solve(f0: list[np.ndarray], k: tuple[Any, Any, Any, Any], sg: list[np.ndarray],
           R3: np.ndarray, R4: np.ndarray, c3: np.ndarray, s3: np.ndarray, c4: np.ndarray,
-          s4: np.ndarray, s34: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+          s4: np.ndarray, s34: np.ndarray, count_all: bool = False
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """At each of m positions: (x, count, status) with x (m, 2) the chosen solution (NaN
     where none), count the solutions found and status 0 (continuous from mu = 0), 3 (not
-    reached from mu = 0: the least-friction one) or 2 (none: self-locking).
+    reached from mu = 0: the least-friction one) or 2 (none: self-locking).  The search
+    for every solution runs where the continuation fails, and everywhere with
+    ``count_all`` (else count is NaN where the continuous one was found).
 
     Parameters
     ----------
@@ -129,6 +132,24 @@ def solve(f0: list[np.ndarray], k: tuple[Any, Any, Any, Any], sg: list[np.ndarra
         alive &= np.hypot(h[:, 0], h[:, 1]) <= tol * (scale + np.hypot(x[:, 0], x[:, 1]))
         x = np.where(alive[:, None], x, 0.0)
     continuous = np.where(alive[:, None], x, np.nan)
+    out = np.full((m, 2), np.nan)
+    count = np.full(m, np.nan)
+    status = np.full(m, 2.0)
+    out[alive], status[alive] = continuous[alive], 0.0
+    look = np.flatnonzero(np.ones(m, dtype=bool) if count_all else ~alive)
+    if look.size:
+        c_, x_, st_ = _search([f[look] for f in f0], k, [g[look] for g in sg], u[look],
+                              v[look], d[look], scale[look], continuous[look], alive[look],
+                              tol)
+        count[look] = c_
+        gone = ~alive[look]
+        out[look[gone]], status[look[gone]] = x_[gone], st_[gone]
+    return out, count, status
+
+
+def _search(f0, k, sg, u, v, d, scale, continuous, alive, tol):
+    """Every solution at each of m positions (see ``solve``): (count, x, status)."""
+    m = scale.shape[0]
     # every solution: Newton from many starts (each position's starts along axis 1)
     phi = np.linspace(0.0, 2.0 * np.pi, DIRECTIONS, endpoint=False)
     rho = np.logspace(-4.0, 8.0, MAGNITUDES)
@@ -174,4 +195,4 @@ def solve(f0: list[np.ndarray], k: tuple[Any, Any, Any, Any], sg: list[np.ndarra
             out[i], status[i] = continuous[i], 0.0
         elif distinct:  # not reached from mu = 0: the one with the least friction
             out[i], status[i] = roots_all[i][int(np.argmin(total[i]))], 3.0
-    return out, count, status
+    return count, out, status

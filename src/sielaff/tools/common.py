@@ -553,22 +553,31 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
     """Results past the IBM 1410's range (|x| >= 1E99, or not finite) over a revolution,
     where the listing could not print them and ``sielaff run`` stops (exit 2): one error
     naming the worst quantity, so every command refuses the same decks."""
+    import warnings
+
     import numpy as np
 
-    from sielaff.engine import RESULTS, analyze
+    from sielaff.engine import RESULTS, FrictionWarning, analyze
     from sielaff.quantities import unit
 
-    with np.errstate(all="ignore"):  # only the steps ``outputs`` need (kinematics: no forces)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        # only the steps ``outputs`` need (kinematics: no forces); friction with no
+        # solution is this check's one line below, not a warning besides it
+        warnings.simplefilter("ignore", FrictionWarning)
         r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or RESULTS,
                     scene=scene or no_scene())
-    worst, value = None, 0.0
+    worst, value, at = None, 0.0, 0.0
     for name, v in r.items():
         bad = ~np.isfinite(v) | (np.abs(v) >= 1e99)
         if bad.any():
-            worst, value = name, float(v[np.argmax(bad)])
+            worst, value, at = name, float(v[np.argmax(bad)]), float(np.argmax(bad))
             break
     if worst is None:
         return None
+    if value != value and scene is not None:  # NaN: an effect's own reason, if it has one
+        why = _nan_reason(deck, scene, at)
+        if why:
+            return CommandError(f"{deck.path}: [scene] {why}")
     effects = describe_scene(scene, deck.mechanism.units)
     if effects:  # the scene may be what drives it there: say so, blame no card
         return CommandError(f"{deck.path}: [scene] {effects}: with this scene {worst} = "
@@ -577,6 +586,40 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
     return CommandError(f"{deck.path}: card 6: TH2D = {deck.mechanism.TH2D:g} rad/sec with "
                         f"these lengths and weights gives {worst} = {value:.3g} {unit(worst)}, "
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
+
+
+def _nan_reason(deck: Deck, scene: Scene, at: float) -> str | None:
+    """Why the results are NaN at THETA 2 = ``at`` [deg], if an effect knows: a spring or
+    a damper of length zero (its direction undefined), or pin friction with no solution
+    (the linkage self-locks there)."""
+    import warnings
+
+    import numpy as np
+
+    from sielaff.engine import analyze
+
+    names = []
+    if scene.elements:
+        names += [f"{k}{j}_L" for k in ("SPRING", "DAMPER") for j in range(1, 9)]
+    if scene.has_friction:
+        names.append("FRICTION_STATUS")
+    if not names:
+        return None
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        r = analyze(deck.mechanism, at, names, scene=scene)
+    kinds = {"SPRING": 0, "DAMPER": 0}
+    for e in scene.elements:
+        kind = "SPRING" if type(e).__name__ == "Spring" else "DAMPER"
+        kinds[kind] += 1
+        length = float(r[f"{kind}{kinds[kind]}_L"])
+        if not length > 0.0:
+            return (f"{kind.lower()} {kinds[kind]} has its two points at one place at THETA 2 "
+                    f"= {at:g} deg: its length is 0 and its direction undefined")
+    if "FRICTION_STATUS" in r and float(r["FRICTION_STATUS"]) == 2.0:
+        return (f"pin friction: the friction law has no solution at THETA 2 = {at:g} deg (the "
+                "linkage self-locks there with this friction)")
+    return None
 
 
 def work_text(work: float, abs_work: float, units: str = "in-lb-sec") -> str:

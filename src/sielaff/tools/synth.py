@@ -252,6 +252,10 @@ def cmd_synth(args) -> int:
     if args.write_best and os.path.exists(args.write_best) and \
             not os.path.isdir(args.write_best):
         raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
+    if args.write_best and args.output and \
+            os.path.realpath(args.output) == os.path.realpath(args.write_best):
+        raise CommandError(f"sielaff: -o {args.output} and --write-best {args.write_best} "
+                           "name the same path: the table is a file, the best a folder")
     if not spec_path(path):
         raise CommandError(f"{path}: synth reads a TOML spec with a [synthesis] table")
     done = synthesize(path)
@@ -288,6 +292,14 @@ def cmd_synth(args) -> int:
             else:
                 notes.append(f"  no deck for best-{k}: {why}")
     paths = ([args.output] if args.output else []) + [p for p, _ in written]
+    # an older run's best-K beyond this one's (or its deck where this one has none) would
+    # read as this run's: the set is replaced whole, the stale ones removed after it
+    import glob
+
+    stale = sorted(set(glob.glob(os.path.join(glob.escape(args.write_best), "best-*.toml"))
+                       + glob.glob(os.path.join(glob.escape(args.write_best), "best-*.dat")))
+                   - {os.path.join(args.write_best, os.path.basename(p)) for p, _ in written}
+                   ) if args.write_best else []
     with atomic_files(paths) as temps:
         texts = ([csv_text] if args.output else []) + [t for _, t in written]
         for tmp, text in zip(temps, texts):
@@ -295,6 +307,11 @@ def cmd_synth(args) -> int:
                 f.write(text)
         if not args.output:
             sys.stdout.write(csv_text)
+    for old in stale:
+        os.unlink(old)
+    if stale:
+        notes.append(f"  removed {len(stale)} older file{'s' if len(stale) > 1 else ''} of "
+                     f"{args.write_best} ({', '.join(os.path.basename(p) for p in stale)})")
     ok = int(np.isfinite(r.figures[task["by"][0]]).sum())
     msg = (f"sielaff synth: {len(cands)} candidates from {len(task['problems'])} "
            f"{task['problem']} problem(s) ({len(refused)} without a solution), "

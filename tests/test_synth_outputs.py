@@ -1,0 +1,39 @@
+"""``synth``'s outputs as a set (issue 32, family 6): the table and the best folder never
+the same path, and a folder of best-K files replaced as a set (an older run's best-4
+does not stay beside this run's best-1)."""
+
+from __future__ import annotations
+
+import procs
+from conftest import DECKS
+
+SPEC = DECKS / "synth.toml"
+
+
+def test_the_table_and_the_folder_cannot_be_one_path(tmp_path):
+    target = tmp_path / "X"
+    r = procs.run(["synth", str(SPEC), "-o", str(target), "--write-best", str(target)],
+                  text=True)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
+    assert "name the same path" in r.stderr
+    assert not target.exists()  # no empty folder left behind
+
+
+def test_the_best_are_replaced_as_a_set(tmp_path):
+    best = tmp_path / "best"
+    three = tmp_path / "three.toml"
+    three.write_text(SPEC.read_text())
+    assert procs.run(["synth", str(three), "-o", str(tmp_path / "a.csv"), "--write-best",
+                      str(best)], text=True).returncode == 0
+    first = sorted(p.name for p in best.iterdir())
+    assert len(first) >= 2 and "best-1.toml" in first
+    one = tmp_path / "one.toml"
+    text = SPEC.read_text()
+    assert "\nbest = " in text
+    one.write_text("\n".join("best = 1" if line.startswith("best = ") else line
+                             for line in text.splitlines()) + "\n")
+    r = procs.run(["synth", str(one), "-o", str(tmp_path / "b.csv"), "--write-best",
+                   str(best)], text=True)
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in best.iterdir()) == ["best-1.toml"]
+    assert f"removed {len(first) - 1} older file" in r.stderr
