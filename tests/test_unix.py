@@ -213,9 +213,18 @@ def test_a_bad_spec_on_stdin_is_named(command, monkeypatch):
     assert err.count("\n") == 1 and "Traceback" not in err
 
 
-def test_run_on_a_spec_says_punch_it(monkeypatch):
+def test_run_on_a_spec_runs_the_deck_it_punches(monkeypatch):
+    """``run`` reads a spec as the other commands do (issue 33): the listing of its punched
+    deck, byte for byte that of the deck itself; an SI spec, which no deck can carry, is
+    one line saying so."""
+    status, out, err = cli(monkeypatch, ["run", "-"],
+                           stdin=(DECKS / "example.toml").read_bytes())
+    assert status == 0, err
+    status2, out2, _ = cli(monkeypatch, ["run", str(DECKS / "example.dat")])
+    assert status2 == 0 and out == out2
     status, _, err = cli(monkeypatch, ["run", "-"], stdin=(DECKS / "si.toml").read_bytes())
-    assert status == 2 and "<stdin>: a TOML spec" in err and "sielaff punch" in err
+    assert status == 2 and err.startswith("<stdin>: [scene] units = 'SI'")
+    assert err.count("\n") == 1
 
 
 @pytest.mark.parametrize("head, kind", [

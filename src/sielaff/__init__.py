@@ -18,6 +18,8 @@ The public API, in one place (everything else is reached through its module):
   answers (``sielaff.design``, docs/design.md).
 * ``simulate(mechanism, motor, ...)``, ``Motor``: the crank driven by a motor, forward
   dynamics (``sielaff.dynamics``, docs/effects.md; needs scipy, the ``dynamics`` extra).
+* ``load_spec(path) -> Spec``: a TOML spec read as every command reads it (its
+  mechanism, scene, range cards and motor); a bad spec is a ValueError naming its key.
 * ``__version__``.
 
 docs/architecture.md shows how the package is laid out.
@@ -30,7 +32,29 @@ from sielaff.version import __version__
 __all__ = ["EXAMPLE", "AssemblyWarning", "Damper", "Deck", "DeckError", "FrictionWarning",
            "Load", "Mechanism", "Motor", "PinFriction", "Results", "Scene", "Spring",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
-           "point_motion", "reachable", "read_deck", "simulate"]
+           "load_spec", "point_motion", "reachable", "read_deck", "simulate"]
+
+
+def load_spec(path: str):
+    """The spec at ``path`` (``*.toml``, docs in ``sielaff help spec``) as the commands
+    read it: a ``Spec`` with ``mechanism`` (in its unit system), ``scene``, ``ranges``
+    ((THZERO, DELTA, THMAX) per range card, deg) and ``motor`` (``[motor]`` read as
+    ``simulate`` reads it: Motor, flywheel, revolutions, steady, speed; None without one).
+    A spec that cannot be read is a ValueError in one line naming the file and key."""
+    from sielaff.tools.common import CommandError, read_spec, read_spec_deck
+    from sielaff.tools.spec import PunchError, Spec
+
+    try:
+        deck, scene = read_spec_deck(path)
+        spec = read_spec(path)
+        motor = None
+        if "motor" in spec:
+            from sielaff.tools.simulate import motor_of
+
+            motor = motor_of(spec, path)
+    except (CommandError, PunchError) as exc:
+        raise ValueError(str(exc)) from None
+    return Spec(path, deck.mechanism, scene, tuple(tuple(r) for r in deck.ranges), motor)
 
 
 def __getattr__(name: str):

@@ -55,6 +55,7 @@ _FIXED: dict[str, tuple[str, str]] = {
     "TH4D": ("rad/sec", "angular velocity of link 4, CCW +"),
     "TH3DD": ("rad/sec^2", "angular acceleration of link 3, CCW +"),
     "TH4DD": ("rad/sec^2", "angular acceleration of link 4, CCW +"),
+    "TEX": ("in-lb", "external torque on link 4, CCW + (0 in the 1966 program)"),
     "TORQ_INERTIA": ("in-lb", "the part of TORQ the links' inertia takes"),
     "TORQ": ("in-lb", "driving torque the drive puts on the crank, CCW +"),
     "SHAKM": ("in-lb", "shaking moment on the frame about O2, CCW +"),
@@ -80,8 +81,11 @@ def declare(name: str, kind: str, description: str) -> None:
     known = _DECLARED.get(name)
     if known is not None and known[0] != kind:
         raise ValueError(f"output {name} declared as {known[0]} and as {kind}")
-    if name in _FIXED:
-        raise ValueError(f"output {name} is the listing's, not an effect's")
+    if name in _FIXED:  # a listing name an effect also provides (TEX): the same unit
+        if _FIXED[name][0] != KINDS[kind][0]:
+            raise ValueError(f"output {name}: the listing's unit is {_FIXED[name][0]}, "
+                             f"not {KINDS[kind][0]}")
+        return
     _DECLARED[name] = (kind, description)
 
 
@@ -131,7 +135,8 @@ def unit(name: str, units: str = "in-lb-sec") -> str:
     else:
         entry = _FIXED.get(name) or _vector(name)
         if entry is None:
-            raise KeyError(f"no unit is known for {name!r}")
+            raise KeyError(f"no unit is known for {name!r} (an effect's outputs are known "
+                           "once sielaff.engine is imported)")
         found = entry[0]
     if units == "SI":
         return SI[found]

@@ -398,7 +398,7 @@ def load_runnable(path: str, arithmetic="float64", max_sheets: int | None = None
     """
     from sielaff.mechanism import crank_rocker_failure
 
-    deck = load_deck(path)
+    deck = punched_deck(path) if is_spec(path) else load_deck(path)
     problem = mechanism_problem(deck)
     if problem is not None and problem.status == EXIT_DECK:
         raise problem
@@ -406,6 +406,33 @@ def load_runnable(path: str, arithmetic="float64", max_sheets: int | None = None
         problem = range_problem(deck, arithmetic, max_sheets)
         if problem is not None:
             raise problem
+    return deck
+
+
+def punched_deck(path: str) -> Deck:
+    """The deck a TOML spec punches (``sielaff punch``), read back card by card as the 1966
+    program reads it: what ``run`` takes for a spec.  The tables a deck cannot carry are
+    named in one warning; a bad spec is one line naming its key."""
+    import io
+
+    from sielaff.emulator.cards import read_deck_stream
+    from sielaff.tools.spec import PunchError, punch_deck
+    from sielaff.tools.spec_fields import OTHER_TABLES
+
+    if not input_exists(path):
+        raise CommandError(f"{path}: no such spec")
+    try:
+        spec = read_spec(path)
+        text = punch_deck(spec, path)
+    except PunchError as exc:
+        raise CommandError(str(exc), exc.status) from None
+    left = [f"[{t}]" for t in OTHER_TABLES if t in spec]
+    if left:
+        print(f"sielaff: warning: {path}: the 1966 program reads the punched deck, without "
+              f"{', '.join(left)}", file=sys.stderr)
+    deck = read_deck_stream(io.BytesIO(text.encode("ascii")), path)
+    for warning in deck.warnings:
+        print(f"sielaff: warning: {warning}", file=sys.stderr)
     return deck
 
 

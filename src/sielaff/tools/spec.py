@@ -69,7 +69,9 @@ from __future__ import annotations
 
 import os
 import tomllib
+from dataclasses import dataclass
 from decimal import Decimal
+from typing import Any
 
 from sielaff.emulator.cards import Deck, Range, read_field_decimal
 from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
@@ -88,9 +90,22 @@ from sielaff.tools.spec_fields import (
 from sielaff.tools.spec_scene import scene_of
 from sielaff.tools.spec_sweep import sweep_of
 
-__all__ = ["PunchError", "punch_deck", "punch_field", "punch_file", "read_spec", "scene_of",
+__all__ = ["PunchError", "Spec", "punch_deck", "punch_field", "punch_file", "read_spec", "scene_of",
            "spec_deck", "spec_dict", "spec_number", "spec_text", "spec_values", "spec_whole",
            "sweep_of"]
+
+@dataclass(frozen=True)
+class Spec:
+    """A spec as ``sielaff.load_spec`` gives it: the file, its mechanism (in its unit
+    system), its scene, its range cards ((THZERO, DELTA, THMAX) [deg] each) and its
+    ``[motor]`` as simulate reads it (None without one)."""
+
+    path: str
+    mechanism: Any
+    scene: Any
+    ranges: tuple[tuple[float, float, float], ...]
+    motor: dict | None
+
 
 WIDTH = 8
 #: A spec file is read up to this many bytes; a longer one (or /dev/zero) is refused.
