@@ -43,3 +43,15 @@ def test_the_all_extra_holds_every_other_extra():
 def test_a_virtual_environment_is_ignored():
     lines = (ROOT / ".gitignore").read_text().splitlines()
     assert ".venv/" in lines
+
+
+def test_the_subpackages_are_reached_from_the_package():
+    """``import sielaff`` then ``sielaff.synthesis.rank`` (as the README writes it) works."""
+    import subprocess
+    import sys
+
+    code = ("import sielaff; print(callable(sielaff.synthesis.rank), "
+            "callable(sielaff.design.flywheel), callable(sielaff.engine.analyze))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=120, env={"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin"})
+    assert r.returncode == 0 and r.stdout.split() == ["True"] * 3, r.stderr

@@ -237,3 +237,12 @@ def test_a_spring_of_length_zero_is_said_so_in_one_line(tmp_path, capsys):
     assert status == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "spring 1 has its two points at one place" in lines[0]
+
+
+def test_balance_says_why_a_spring_leaves_shaking_force(capsys):
+    """decks/friction.toml's spring pulls the rocker toward the frame: its force reaches the
+    frame, and balance says so (as it does for gravity and loads), naming it."""
+    status, out, err = run_cli(["balance", str(FRICTION_DECK)], capsys)
+    assert status == 0, err
+    text = out + err
+    assert "the scene's forces reach the frame besides the links' inertia (1 spring)" in text

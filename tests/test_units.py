@@ -155,7 +155,9 @@ def test_balance_keeps_a_spec_s_precision_and_names_the_weight(tmp_path):
     crank = spec["inertia"]["crank"]
     assert crank != round(crank, 4)
     assert "rounding to F8.4" not in proc.stdout.split("Written to")[1]
-    assert "links' weight" in proc.stdout
+    # the residual is named as the scene's gravity (its own words), not rounding
+    assert "the rest is the scene's forces (gravity)" in proc.stdout
+    assert "not a rounding residual" in proc.stdout
 
 
 def test_standard_gravity_is_the_definition_in_each_system():
@@ -181,3 +183,14 @@ def test_standard_gravity_is_the_definition_in_each_system():
         weight = mass * g / MASS_DIVISOR[system]  # N, or lb (W is a weight in lb there)
         np.testing.assert_allclose(r["TORQ_GRAVITY"], weight * rg2 * np.cos(np.radians(th)),
                                    rtol=0, atol=1e-12 * weight * rg2)
+
+
+def test_check_in_si_calls_the_w_fields_masses():
+    """In SI the W fields hold masses (kg): check says "mass of link 2", not "weight"."""
+    from sielaff.tools.check import check_deck
+    from sielaff.tools.common import read_spec_deck
+
+    deck, scene = read_spec_deck(str(SI_SPEC))
+    lines = [x for x in check_deck(deck, scene=scene).lines if " W2 " in x or " W3 " in x]
+    assert len(lines) == 2 and all(" kg " in x and "mass of link" in x for x in lines)
+    assert not any("weight" in x for x in lines)

@@ -73,4 +73,8 @@ def __getattr__(name: str):
         from sielaff import dynamics
 
         return getattr(dynamics, name)
+    if name in ("engine", "design", "dynamics", "synthesis", "emulator", "quantities"):
+        import importlib  # sielaff.synthesis.rank after a bare ``import sielaff``
+
+        return importlib.import_module(f"sielaff.{name}")
     raise AttributeError(f"module 'sielaff' has no attribute {name!r}")

@@ -7,8 +7,8 @@ as a deck (``.dat``, any other name) or a spec (``.toml``, keeping the input spe
 [scene] and [deck]).  A deck's fields are F8.4: the merged values are rounded to 4
 decimals, which leaves a small shaking force; the residual of the written design is
 printed beside the exact balanced design's, and only their difference is called
-rounding: with gravity or loads on, the exact design still shakes the frame with the
-links' weight and the loads.  A spec keeps every value as computed (the shortest decimal
+rounding: with gravity, loads, springs or dampers on, the exact design still shakes the
+frame with them.  A spec keeps every value as computed (the shortest decimal
 that reads back as the same double): only a deck has F8.4 fields.
 
 A counterweight radius so far from the link's length that a merged field would pass the
@@ -103,9 +103,10 @@ def cmd_balance(args) -> int:
     lines = [f"sielaff balance: {path} (units {m.units})", ""]
     with np.errstate(all="ignore"):  # a design near 1E99 may overflow a product: nan
         lines += balance_lines(m, balanced, args.radius2, args.radius4, scene=scene)
-    if scene.gravity is not None or scene.loads:
-        lines.append("  (the spec's weights and loads still reach the frame: counterweights "
-                     "cancel the inertia forces only)")
+    loading = _loading(scene)
+    if loading:
+        lines.append(f"  (the scene's forces reach the frame besides the links' inertia "
+                     f"({loading}): counterweights cancel the inertia forces only)")
     to_stdout = args.output == "-"  # the balanced design on stdout, the report on stderr
     where = "standard output" if to_stdout else args.output
     if args.output:
@@ -163,7 +164,15 @@ def _written_line(path: str, as_spec: bool, m, exact, written, scene) -> str:
     if not as_spec:
         rounding = abs(peak["written"] - peak["exact"])
         text += f", so rounding to F8.4 accounts for {fmt(rounding, f, m.units, '.2g')}"
-    if scene.gravity is not None or scene.loads:
-        text += ("; the rest is the links' weight and the loads, which no counterweight "
+    loading = _loading(scene)
+    if loading:
+        text += (f"; the rest is the scene's forces ({loading}), which no counterweight "
                  "cancels (not a rounding residual)")
     return text
+
+
+def _loading(scene) -> str:
+    """The effects of ``scene`` that put forces on the links (each effect says whether it
+    does: ``applies``), in their own words: "" if none."""
+    return ", ".join(e.summary(scene, "in-lb-sec") if e.summary else e.name
+                     for e in scene.effects if e.applies)

@@ -123,8 +123,12 @@ def _deck_section(deck: Deck, rep: CheckReport, sheets: list[RangeSheets]) -> No
         for k, name in enumerate(names):
             value = deck.exact.get(name, Decimal(repr(getattr(deck.mechanism, name))))
             head = f"card {card}" if k == 0 else ""
-            u = unit(name, getattr(deck.mechanism, "units", "in-lb-sec"))
-            rep.add(f"  {head:7} {name:5} = {num(value):>9} {u:11}  {MEANINGS[name]}")
+            system = getattr(deck.mechanism, "units", "in-lb-sec")
+            u = unit(name, system)
+            meaning = MEANINGS[name]
+            if system == "SI" and meaning.startswith("weight "):  # SI's W fields are masses
+                meaning = "mass " + meaning.removeprefix("weight ")
+            rep.add(f"  {head:7} {name:5} = {num(value):>9} {u:11}  {meaning}")
     for card, rs, exact in zip(deck.range_cards, sheets, _exact_ranges(deck)):
         rep.add(f"  card {card:<2} THZERO = {num(exact[0])} deg, DELTA = {num(exact[1])} deg, "
                 f"THMAX = {num(exact[2])} deg")
