@@ -11,11 +11,7 @@ on; its part of TORQ (the crank's own inertia) stays in ``TORQ_INERTIA``.
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
-
-from sielaff.engine.declare import Fact, SpecForm, number_param
+from sielaff.engine.declare import number_effect, number_param
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.values import call_checked
 from sielaff.engine.velocities import _angular_velocities
@@ -56,55 +52,18 @@ def _crank_inertia_torque(ZI2, TH2DD, RG2, cd2, sd2, FG2X, FG2Y):
     return ZI2 * TH2DD - RG2 * (cd2 * FG2Y - sd2 * FG2X)
 
 
-def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
-    v = scene.th2dd
-    return {"th2dd_fn": v} if callable(v) else {"TH2DD": v}
-
-
-def _on(scene: Any) -> bool:
-    return callable(scene.th2dd) or bool(np.any(np.asarray(scene.th2dd) != 0.0))
-
-
-def _summary(scene: Any, units: str) -> str:
-    from sielaff.quantities import unit
-
-    v = scene.th2dd
-    if callable(v):
-        return "TH2DD a function of THETA 2"
-    if np.ndim(v):
-        return "TH2DD varying with THETA 2"
-    return f"TH2DD = {v:g} {unit('TH2DD', units)}"
-
-
-def _describe(scene: Any, units: str) -> list[Fact]:
-    v = scene.th2dd
-    if callable(v) or np.ndim(v):
-        return [Fact("", "TH2DD", _summary(scene, units).removeprefix("TH2DD "))]
-    return [Fact("", "TH2DD, the crank's angular acceleration (CCW +)", float(v),
-                 "angular acceleration")]
-
-
-def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
-    key = "crank_acceleration"
-    return {"th2dd": reader.number(f"{path}: [scene] {key}", table[key])} if key in table else {}
-
-
-def _write(scene: Any) -> dict[str, Any]:
-    v = scene.th2dd
-    return {"crank_acceleration": float(v)} if not callable(v) and not np.ndim(v) and v else {}
-
-
 EFFECT = Effect("crank acceleration",
                 tuple(step_of(f) for f in (_crank_acceleration, _angular_acc_crank, _acc_A_crank,
                                            _acc_G2_crank, _crank_inertia_torque)),
-                _seed, parts={"torq": "torq_c"},
+                parts={"torq": "torq_c"},
                 params=(number_param("th2dd", "float, array or callable\n"
                                      "    The crank's angular acceleration [rad/sec^2], CCW +; "
                                      "TH2D is then the crank\n    speed at each position.  A "
                                      "constant, an array or a function of ATH2 [deg]."),),
                 outputs={"TH2DD": ("angular acceleration",
                                    "angular acceleration of the crank, CCW + (0 in 1966)")},
-                on=_on, summary=_summary, describe=_describe,
-                spec=SpecForm(("crank_acceleration",), _read, _write,
-                              "crank_acceleration = -40.0    # TH2DD, rad/sec^2"),
-                compiled=True)
+                compiled=True,
+                **number_effect("th2dd", "TH2DD", "THETA 2",
+                                "TH2DD, the crank's angular acceleration (CCW +)",
+                                "angular acceleration", "crank_acceleration",
+                                "crank_acceleration = -40.0    # TH2DD, rad/sec^2"))

@@ -18,7 +18,8 @@ import numpy as np
 
 from sielaff.engine.values import check_value
 
-__all__ = ["Fact", "Param", "SpecForm", "SpecReader", "fact_lines", "number_param",
+__all__ = ["Fact", "Param", "SpecForm", "SpecReader", "fact_lines", "number_effect",
+           "number_param",
            "varying"]
 
 
@@ -63,6 +64,48 @@ def number_param(name: str, doc: str) -> Param:
 
     varies, block = varying(name)
     return Param(name, 0.0, check, doc, varies, block)
+
+
+def number_effect(field: str, name: str, of: str, label: str, kind: str, key: str,
+                  help: str) -> dict[str, Any]:
+    """What an effect of one :func:`number_param` field declares besides its steps: its
+    seed (``name``, or ``field + "_fn"`` for a function of ``of``), its on rule (a function,
+    or a value not zero), its words (``label`` and the number in the unit of ``kind``)
+    and its spec form (the key ``key``, a number; ``help`` its line).  TEX and TH2DD."""
+    def seed(scene: Any, mechanism: Any) -> dict[str, Any]:
+        v = getattr(scene, field)
+        return {f"{field}_fn": v} if callable(v) else {name: v}
+
+    def on(scene: Any) -> bool:
+        v = getattr(scene, field)
+        return callable(v) or bool(np.any(np.asarray(v) != 0.0))
+
+    def summary(scene: Any, units: str) -> str:
+        from sielaff.quantities import unit
+
+        v = getattr(scene, field)
+        if callable(v):
+            return f"{name} a function of {of}"
+        if np.ndim(v):
+            return f"{name} varying with THETA 2"
+        return f"{name} = {v:g} {unit(name, units)}"
+
+    def describe(scene: Any, units: str) -> list[Fact]:
+        v = getattr(scene, field)
+        if callable(v) or np.ndim(v):
+            return [Fact("", name, summary(scene, units).removeprefix(name + " "))]
+        return [Fact("", label, float(v), kind)]
+
+    def read(table: Any, path: str, reader: Any) -> dict[str, Any]:
+        return {field: reader.number(f"{path}: [scene] {key}", table[key])} \
+            if key in table else {}
+
+    def write(scene: Any) -> dict[str, Any]:
+        v = getattr(scene, field)
+        return {key: float(v)} if not callable(v) and not np.ndim(v) and v else {}
+
+    return {"seed": seed, "on": on, "summary": summary, "describe": describe,
+            "spec": SpecForm((key,), read, write, help)}
 
 
 @dataclass(frozen=True)

@@ -194,12 +194,10 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
     finite = np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0)
     # where the law need not be a contraction, every solution it has (friction_solve.py)
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    with np.errstate(all="ignore"):
-        hard = np.flatnonzero(finite & ~(contraction(mur, geo_f[1], geo_f[2], geo_f[9]) < 1.0))
-    if hard.size:
-        pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
-        x, _, found = solve(pairs, mur, [s_[hard] for s_ in sg],
-                            *[geo_f[j][hard] for j in (1, 2, 5, 6, 7, 8, 9)])
+    hard, pairs, solved = _where_not_contracting(
+        mur, finite, f0_f, sg, [geo_f[j] for j in (1, 2, 5, 6, 7, 8, 9)])
+    if solved is not None:
+        x, _, found = solved
         fixed = np.stack([corr[2][hard], corr[3][hard]], axis=-1)  # the fixed point's x
         same = (iterations[hard] > 0.0) & (found == 0.0) & (
             np.hypot(*(fixed - np.nan_to_num(x)).T)
@@ -257,14 +255,26 @@ def _friction_solutions(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0,
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
     finite = np.all(np.isfinite(np.array(f0_f + geo_f)), axis=0)
     count = np.where(finite, 1.0, 0.0)
-    with np.errstate(all="ignore"):
-        hard = np.flatnonzero(finite & ~(contraction(mur, geo_f[0], geo_f[1], geo_f[6]) < 1.0))
-    if hard.size:
-        pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
-        R3_, R4_, c3_, s3_, c4_, s4_, s34_ = (g[hard] for g in geo_f)
-        count[hard] = solve(pairs, mur, [s_[hard] for s_ in sg], R3_, R4_, c3_, s3_, c4_,
-                            s4_, s34_, count_all=True)[1]
+    hard, _, solved = _where_not_contracting(mur, finite, f0_f, sg, geo_f, count_all=True)
+    if solved is not None:
+        count[hard] = solved[1]
     return count.reshape(shape)
+
+
+def _where_not_contracting(mur, finite, f0_f, sg, geo, count_all=False):
+    """The positions where the law need not contract (friction_solve.contraction >= 1),
+    the frictionless pin forces there as (FA32, FB34, FOA, FOB) pairs, and ``solve``'s
+    answer there (None where there is no such position); ``geo``: R3, R4, c3, s3, c4,
+    s4, s34, flat."""
+    R3, R4, c3, s3, c4, s4, s34 = geo
+    with np.errstate(all="ignore"):
+        hard = np.flatnonzero(finite & ~(contraction(mur, R3, R4, s34) < 1.0))
+    if not hard.size:
+        return hard, [], None
+    pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
+    return hard, pairs, solve(pairs, mur, [s_[hard] for s_ in sg], R3[hard], R4[hard],
+                              c3[hard], s3[hard], c4[hard], s4[hard], s34[hard],
+                              count_all=count_all)
 
 
 def mu_r(scene: Any) -> dict[str, float]:
