@@ -267,7 +267,8 @@ def test_cli_writes_the_time_history_with_units_and_a_plot(tmp_path, capsys):
     status, out, err = run_cli(["simulate", str(MOTOR_DECK), "-o", str(csv), "--plot",
                                 str(png)], capsys)
     assert status == 0 and out == ""
-    assert err.startswith("sielaff: simulate: 20 revolutions in ") and err.count("\n") == 1
+    assert err.startswith("sielaff: simulate: 20 revolutions in ")
+    assert err.splitlines()[1].startswith("motor sizing over the last revolution")
     lines = csv.read_text().splitlines()
     assert lines[0] == "t[s],ATH2[deg],TH2D[rad/sec],TH2DD[rad/sec^2],MOTOR[in-lb],TORQ[in-lb]"
     rows = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])

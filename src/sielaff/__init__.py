@@ -39,7 +39,8 @@ def load_spec(path: str):
     """The spec at ``path`` (``*.toml``, docs in ``sielaff help spec``) as the commands
     read it: a ``Spec`` with ``mechanism`` (in its unit system), ``scene``, ``ranges``
     ((THZERO, DELTA, THMAX) per range card, deg) and ``motor`` (``[motor]`` read as
-    ``simulate`` reads it: Motor, flywheel, revolutions, steady, speed; None without one).
+    ``simulate`` reads it: Motor, flywheel, revolutions, steady, speed, method, rtol; None
+    without one).
     A spec that cannot be read is a ValueError in one line naming the file and key."""
     from sielaff.tools.common import CommandError, read_spec, read_spec_deck
     from sielaff.tools.spec import PunchError, Spec
@@ -51,7 +52,7 @@ def load_spec(path: str):
         if "motor" in spec:
             from sielaff.tools.simulate import motor_of
 
-            motor = motor_of(spec, path)
+            motor = motor_of(spec, path, deck.mechanism.units)
     except (CommandError, PunchError) as exc:
         raise ValueError(str(exc)) from None
     return Spec(path, deck.mechanism, scene, tuple(tuple(r) for r in deck.ranges), motor)

@@ -372,13 +372,15 @@ def build_parser() -> argparse.ArgumentParser:
                         "spec's [scene] branch")
 
     p = add("simulate", "the crank driven by the spec's [motor] (forward dynamics): the "
-            "time history as CSV with units, a plot of speed and torque against THETA 2 "
+            "time history as CSV with units, the motor sizing, a plot of speed, torque and "
+            "power against time "
             "(needs scipy: pip install -e \".[dynamics]\")")
     p.add_argument("spec", metavar="SPEC.toml", help=SPEC_HELP)
     p.add_argument("-o", "--output", metavar="FILE.csv",
                    help="write the time history here (atomically); - or none: stdout")
     p.add_argument("--plot", metavar="FILE.png",
-                   help="also draw the crank speed and the torques against THETA 2")
+                   help="also draw the crank speed, the torques and the motor's power against "
+                        "time t [s]")
 
     p = add("synth", "synthesise linkages from a spec's [synthesis] (crank_rocker, function, "
             "motion or path) and rank them by dynamics in its [scene]: a CSV, best first")

@@ -119,11 +119,11 @@ class Motor:
         tb = _positive("breakdown_torque", breakdown_torque)
         ws = _positive("synchronous_speed", synchronous_speed)
         if not wr < ws:
-            raise ValueError(f"Motor rated_speed = {wr:g} rad/sec: below the synchronous "
-                             f"speed {ws:g} rad/sec (an induction motor slips)")
+            raise ValueError(f"Motor rated_speed = {wr:g} rad/sec: must be below the "
+                             f"synchronous speed {ws:g} rad/sec (an induction motor slips)")
         if not tb > tr:
-            raise ValueError(f"Motor breakdown_torque = {tb:g}: above the rated torque "
-                             f"{tr:g}")
+            raise ValueError(f"Motor breakdown_torque = {tb:g}: must be above the rated "
+                             f"torque {tr:g}")
         k = tb / tr
         sr = (ws - wr) / ws
         sb = sr * (k + math.sqrt(k * k - 1.0))

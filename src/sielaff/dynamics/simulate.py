@@ -56,13 +56,28 @@ from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism, validate
-from sielaff.quantities import unit
+from sielaff.quantities import unit, unit_of
 
 __all__ = ["Simulation", "simulate"]
 
 TWO_PI = 2.0 * math.pi
 #: Evaluations of the equation of motion allowed per run: a bound on time, never a hang.
+#: A run may take this many, or EVALUATIONS_PER_REVOLUTION for each revolution asked
+#: for, whichever is more (the decks take 190 to 300 a revolution at rtol 1e-8).
 MAX_EVALUATIONS = 400_000
+EVALUATIONS_PER_REVOLUTION = 2000
+#: Samples a result may hold (revolutions x per_revolution): the memory of the result's
+#: arrays and of the CSV written from them (1,048,576 rows, some 130 MB of text).
+MAX_SAMPLES = 2 ** 20
+#: Results are computed from the samples this many at a time (a block's analysis takes
+#: at most 1 KB a position, design.sweep.BYTES_PER_POSITION: 64 MB).
+SAMPLE_BLOCK = 65536
+#: The largest speed [rad/sec or rad/s] a run may start at or a motor may name: the
+#: tables probe accelerations of the speed squared, and the engine takes numbers to 1e100.
+MAX_SPEED = 1e49
+#: After this much CPU [s], a run whose pace says it cannot finish within
+#: MAX_CPU_SECONDS is stopped then, with the estimate, instead of at the budget's end.
+PACE_SECONDS = 5.0
 #: The CPU seconds a run may take: when the tables do not fit (friction near a change
 #: point) every state goes through the engine, some 30 ms each, and the evaluations'
 #: bound alone would allow hours.
@@ -71,11 +86,23 @@ MAX_CPU_SECONDS = 300.0
 MAX_GRID = 16384
 
 
+#: solve_ivp's methods, and the relative tolerances a run may ask for.
+METHODS = ("LSODA", "RK45", "RK23", "DOP853", "Radau", "BDF")
+RTOL = (1e-14, 0.1)
+
+
+def max_revolutions(per_revolution: int = 360) -> float:
+    """The most revolutions a run may ask for at ``per_revolution`` samples each [-]:
+    MAX_SAMPLES in all."""
+    return math.floor(MAX_SAMPLES / per_revolution * 100.0) / 100.0
+
+
 class Simulation(dict):
     """``simulate``'s answer: ``{name: array}`` over the samples, and what happened.
 
     Keys: ``t`` [s]; ``ATH2`` [deg], unwrapped (it keeps growing past 360); ``TH2D``
-    [rad/sec]; ``TH2DD`` [rad/sec^2]; ``MOTOR``, the motor's torque [in-lb or N m]; and
+    [rad/sec or rad/s]; ``TH2DD`` [rad/sec^2 or rad/s^2]; ``MOTOR``, the motor's torque
+    [in-lb or N m]; and
     each asked-for engine output at those states.  Attributes: ``stalled`` (the crank
     stopped and would turn back), ``finished`` (it made the revolutions asked for, or
     for ``steady``, the steady state was found), ``message`` (one line saying which),
@@ -95,6 +122,30 @@ class Simulation(dict):
     method: str = "LSODA"
     rtol: float = 1e-8
     units: dict[str, str] = {}
+    #: The unit system of the numbers (the mechanism's): "in-lb-sec" or "SI".
+    mechanism_units: str = "in-lb-sec"
+
+    def to_frame(self) -> Any:
+        """The samples as a pandas DataFrame (the ``frames`` extra): time ``t`` [s] as
+        the index, one column per key, each column's unit in ``frame.attrs["units"]``;
+        the run's message and motor sizing (:meth:`sizing`) in ``frame.attrs``."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Simulation.to_frame needs pandas: pip install -e "
+                              "\".[frames]\"") from None
+        columns = {k: np.asarray(v) for k, v in self.items() if k != "t"}
+        frame = pd.DataFrame(columns, index=pd.Index(np.asarray(self["t"]), name="t"))
+        frame.attrs["units"] = dict(self.units)
+        frame.attrs["message"] = self.message
+        frame.attrs["sizing"] = self.sizing()
+        return frame
+
+    def sizing(self) -> dict[str, Any]:
+        """What a motor must give for this run (:func:`sielaff.dynamics.sizing.sizing`)."""
+        from sielaff.dynamics.sizing import sizing
+
+        return sizing(self)
 
 
 class SimulationError(ValueError):
@@ -107,6 +158,10 @@ class _TooSlow(Exception):
 
 class _TooLong(Exception):
     pass
+
+
+class _WontFinish(Exception):
+    """The pace so far says the run would pass MAX_CPU_SECONDS: (cpu s, fraction done)."""
 
 
 def _torq(mechanism: Mechanism, scene: Scene, ath2: Any, w: Any, a: Any) -> np.ndarray:
@@ -220,6 +275,28 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
     -------
     Simulation
     """
+    units = getattr(mechanism, "units", "in-lb-sec")
+    try:
+        result = _simulate(mechanism, motor, flywheel=flywheel, scene=scene, speed0=speed0,
+                           revolutions=revolutions, steady=steady, outputs=outputs,
+                           start=start, per_revolution=per_revolution, method=method,
+                           rtol=rtol, atol=atol, t_max=t_max, tables=tables)
+    except SimulationError as exc:
+        raise SimulationError(_in_units(str(exc), units)) from None
+    result.message = _in_units(result.message, units)
+    return result
+
+
+def _in_units(text: str, units: str) -> str:
+    """A message's speeds and accelerations in the unit system in force."""
+    if units not in ("in-lb-sec", "SI"):
+        return text
+    return text.replace("rad/sec^2", unit_of("angular acceleration", units)).replace(
+        "rad/sec", unit_of("rate", units))
+
+
+def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady, outputs,
+              start, per_revolution, method, rtol, atol, t_max, tables) -> Simulation:
     try:
         from scipy.integrate import solve_ivp
         from scipy.optimize import brentq
@@ -255,18 +332,35 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
     if not bool(np.all(linkage_class(mechanism).turns_fully)):
         raise SimulationError("simulate: the crank cannot make a whole revolution (not a "
                               "crank-rocker or double-crank on this branch)")
-    w0 = _check_speed("speed0", mechanism.TH2D if speed0 is None else speed0)
+    w0 = _check_speed("speed0" if speed0 is not None else "the mechanism's TH2D",
+                      mechanism.TH2D if speed0 is None else speed0)
     revs = _check_speed("revolutions", revolutions)
-    if not steady and not 0.0 < revs <= 1e5:
-        raise SimulationError(f"revolutions = {revolutions!r}: a number in (0, 100000]")
     if isinstance(per_revolution, bool) or not isinstance(per_revolution, int) \
             or not 2 <= per_revolution <= 100_000:
         raise SimulationError(f"per_revolution = {per_revolution!r}: an integer 2..100000")
-    if method not in ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"):
-        raise SimulationError(f"method = {method!r}: one of solve_ivp's (RK45, RK23, "
-                              "DOP853, Radau, BDF, LSODA)")
-    if not (isinstance(rtol, float | int) and 1e-14 <= rtol <= 0.1):
-        raise SimulationError(f"rtol = {rtol!r}: in [1e-14, 0.1]")
+    if not steady:
+        most = max_revolutions(per_revolution)
+        if not 0.0 < revs <= most:
+            raise SimulationError(
+                f"revolutions = {revolutions!r}: in (0, {most:g}] ({per_revolution} "
+                f"samples a revolution, at most {MAX_SAMPLES:,} in a result: its memory); "
+                "steady = True gives the periodic state in one revolution")
+    speeds = [("speed0" if speed0 is not None else "the mechanism's TH2D", w0)]
+    if speed0 is not None:
+        speeds.append(("the mechanism's TH2D", float(mechanism.TH2D)))
+    speeds += [(f"the motor's {k}", float(v)) for k, v in getattr(motor, "parameters", ())
+               if k.endswith("speed")]
+    for name, v in speeds:
+        if abs(v) > MAX_SPEED:
+            raise SimulationError(
+                f"{name} = {v:g} rad/sec: past {MAX_SPEED:g} (a crank's accelerations go "
+                "as its speed squared, and the engine takes numbers to 1e100)")
+    if method not in METHODS:
+        raise SimulationError(f"method = {method!r}: one of solve_ivp's ("
+                              f"{', '.join(METHODS)})")
+    if not (isinstance(rtol, float | int) and not isinstance(rtol, bool)
+            and RTOL[0] <= rtol <= RTOL[1]):
+        raise SimulationError(f"rtol = {rtol!r}: in [{RTOL[0]:g}, {RTOL[1]:g}]")
     wanted = tuple(dict.fromkeys([outputs] if isinstance(outputs, str) else (outputs or ())))
     analyze(mechanism, 0.0, wanted or ["TORQ"], scene=sc)  # unknown names fail here, first
     th_start = math.radians(_check_speed("start", start))
@@ -337,20 +431,27 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         return a
 
     cpu0 = time.process_time()
+    budget = MAX_EVALUATIONS if steady else max(MAX_EVALUATIONS,
+                                                 int(EVALUATIONS_PER_REVOLUTION * revs))
+    angle_end = TWO_PI * revs
 
     def accel(theta: float, w: float) -> float:
         count[0] += 1
-        if count[0] > MAX_EVALUATIONS:
+        if count[0] > budget:
             raise _TooLong
-        if count[0] % 256 == 0 and time.process_time() - cpu0 > MAX_CPU_SECONDS:
-            raise _TooSlow
+        if count[0] % 256 == 0:
+            cpu = time.process_time() - cpu0
+            if cpu > MAX_CPU_SECONDS:
+                raise _TooSlow
+            done = (theta - th_start) / angle_end
+            if not steady and cpu > PACE_SECONDS and 0.0 < done < 1.0 \
+                    and cpu / done > 1.2 * MAX_CPU_SECONDS:
+                raise _WontFinish(cpu, done)
         if tab is not None:
             mt = float(np.asarray(motor(w)))
             if not math.isfinite(mt):
                 raise SimulationError(f"the motor's torque at {w:.6g} rad/sec is {mt!r}: "
                                       "not a number")
-        if tab is not None:
-            mt = float(np.asarray(motor(w)))
             jj, b, c, d = tab(theta)
             return (mt - (b * w * w + c * w + d)) / (jj + f_in)
         return float(accel_many(theta, w)[0])  # the friction tables, or the engine
@@ -376,9 +477,18 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
                                   method, rtol, atol_, t_max, scale, result, tu)
     except _TooLong:
         other = "'Radau' or 'BDF'" if method == "LSODA" else "'LSODA', 'Radau' or 'BDF'"
-        raise SimulationError(f"simulate: more than {MAX_EVALUATIONS} evaluations of the "
+        raise SimulationError(f"simulate: more than {budget} evaluations of the "
                               f"equation of motion (method {method}, rtol {rtol:g}): a "
                               f"stiff motor wants method={other}, or a looser rtol") from None
+    except _WontFinish as exc:
+        cpu, done = exc.args
+        est = cpu / done
+        fits = math.floor(revs * MAX_CPU_SECONDS / est * 10.0) / 10.0
+        raise SimulationError(
+            f"simulate: {revs:g} revolutions would take about {est:.3g} s of CPU at the "
+            f"pace of the first {done * revs:.3g} ({cpu:.3g} s), past the budget of "
+            f"{MAX_CPU_SECONDS:g} s: ask for at most about {fits:g}, a looser rtol, or "
+            "steady = True") from None
     except _TooSlow:
         how = ("the engine at every state (the friction tables do not fit this linkage)"
                if result.mode == "engine" else "the tables")
@@ -386,21 +496,31 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
                               f"{count[0]} evaluations of the equation of motion by {how}: "
                               "fewer revolutions, a looser rtol or less friction") from None
     result.evaluations = count[0]
-    a = accel_many(th, w) if tab is None else _accel_table(tab, motor, f_in, th, w)
+    # The samples' results a block at a time: memory flat in the revolutions.
+    parts: dict[str, list[np.ndarray]] = {}
+    for i in range(0, len(t), SAMPLE_BLOCK):
+        th_b, w_b = th[i:i + SAMPLE_BLOCK], w[i:i + SAMPLE_BLOCK]
+        a_b = accel_many(th_b, w_b) if tab is None else _accel_table(tab, motor, f_in,
+                                                                      th_b, w_b)
+        block = {"TH2DD": a_b, "MOTOR": np.asarray(motor(w_b), dtype=float)
+                 * np.ones_like(w_b)}
+        if wanted:
+            r = analyze(mechanism.replace(TH2D=w_b), np.degrees(th_b), wanted,
+                        scene=sc.replace(th2dd=a_b))
+            block.update({n: np.asarray(r[n]) for n in wanted if n not in block})
+        for name, v in block.items():
+            parts.setdefault(name, []).append(v)
     result["t"] = t
     result["ATH2"] = np.degrees(th)
     result["TH2D"] = w
-    result["TH2DD"] = a
-    result["MOTOR"] = np.asarray(motor(w), dtype=float) * np.ones_like(w)
-    if wanted and len(t):
-        r = analyze(mechanism.replace(TH2D=w), np.degrees(th), wanted,
-                    scene=sc.replace(th2dd=a))
-        for name in wanted:
-            if name not in result:
-                result[name] = r[name]
-    result.units = {"t": "s", "ATH2": "deg", "TH2D": "rad/sec", "TH2DD": "rad/sec^2",
-                    "MOTOR": tu}
-    result.units.update({n: unit(n, mechanism.units) for n in wanted if n not in result.units})
+    for name, v in parts.items():
+        if name not in result:
+            result[name] = np.concatenate(v)
+    u = mechanism.units
+    result.units = {"t": "s", "ATH2": "deg", "TH2D": unit_of("rate", u),
+                    "TH2DD": unit_of("angular acceleration", u), "MOTOR": tu}
+    result.units.update({n: unit(n, u) for n in wanted if n not in result.units})
+    result.mechanism_units = u
     return result
 
 

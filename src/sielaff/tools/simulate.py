@@ -6,10 +6,13 @@ The spec's mechanism and [scene] are the linkage and what acts on it; its ``[mot
 flywheel, how many revolutions, or
 ``steady = true`` for one revolution of the periodic steady state.  The time history is
 CSV, the header naming each column with its unit (``t[s]``, ``ATH2[deg]`` unwrapped,
-``TH2D[rad/sec]``, ``TH2DD[rad/sec^2]``, ``MOTOR[in-lb]``, ``TORQ[in-lb]``), on stdout
-or in ``-o``; ``--plot`` draws the speed and the torques against THETA 2.  One line on
-stderr says what happened (the revolutions made, the steady speed, or a stall).  Files
-are written whole or not at all.  Needs scipy (``pip install -e ".[dynamics]"``).
+``TH2D[rad/sec]``, ``TH2DD[rad/sec^2]``, ``MOTOR[in-lb]``, ``TORQ[in-lb]``; in SI
+``rad/s`` and ``N m``, as ``table`` writes them), on stdout or in ``-o``; ``--plot``
+draws the speed, the torques and the motor's power against time.  On stderr, one line
+says what happened (the revolutions made, the steady speed, or a stall), then the motor
+sizing (:mod:`sielaff.dynamics.sizing`: torque peak and RMS, power, speed range,
+fluctuation, slip) and a warning where the motor runs as a generator.  Files are written
+whole or not at all.  Needs scipy (``pip install -e ".[dynamics]"``).
 """
 
 from __future__ import annotations
@@ -22,12 +25,12 @@ COLUMNS = ("t", "ATH2", "TH2D", "TH2DD", "MOTOR", "TORQ")
 MOTOR_KINDS = {"constant": ("torque",), "linear": ("stall_torque", "no_load_speed"),
                "induction": ("rated_torque", "rated_speed", "breakdown_torque",
                              "synchronous_speed")}
-MOTOR_RUN = ("flywheel", "revolutions", "steady", "speed")
+MOTOR_RUN = ("flywheel", "revolutions", "steady", "speed", "method", "rtol")
 
 
-def motor_of(spec: dict, path: str = "<spec>") -> dict:
+def motor_of(spec: dict, path: str = "<spec>", units: str = "in-lb-sec") -> dict:
     """The spec's ``[motor]`` for ``sielaff simulate``: ``{"motor": Motor, "flywheel",
-    "revolutions", "steady", "speed"}``::
+    "revolutions", "steady", "speed", "method", "rtol"}``::
 
         [motor]
         kind = "linear"           # constant (torque), linear (stall_torque, no_load_speed)
@@ -35,14 +38,19 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
         no_load_speed = 55.0      #   breakdown_torque, synchronous_speed); torques in the
         flywheel = 2.0            #   spec's units, speeds rad/sec; flywheel inertia
         revolutions = 20          #   (in-lb-sec^2 or kg m^2); speed: the crank speed at
-        steady = false            #   the start (default TH2D), 0 from rest
+        steady = false            #   the start (default TH2D), 0 from rest; method and
+        method = "LSODA"          #   rtol: solve_ivp's (LSODA, RK45, RK23, DOP853,
+        rtol = 1e-8               #   Radau, BDF), 1e-14 to 0.1
 
     A missing, unknown or bad key is one line naming it.
     """
     from sielaff.dynamics.motor import Motor
+    from sielaff.dynamics.simulate import MAX_SPEED, METHODS, RTOL, max_revolutions
+    from sielaff.quantities import unit_of
     from sielaff.tools.spec_fields import PunchError, _float, _name, _table, _unknown
 
     where = f"{path}: [motor]"
+    ru = unit_of("rate", units)
     if "motor" not in spec:
         raise PunchError(f"{path}: no [motor] table (kind = \"constant\", \"linear\" or "
                          "\"induction\" and its parameters)")
@@ -55,10 +63,13 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
             raise PunchError(f"{where} has no {key} (a {kind} motor needs "
                              f"{', '.join(MOTOR_KINDS[kind])})")
         params.append(_float(f"{where} {key}", table[key]))
+        if key.endswith("speed") and abs(params[-1]) > MAX_SPEED:
+            raise PunchError(f"{where} {key} = {params[-1]:g}: past {MAX_SPEED:g} {ru} "
+                             "(the largest speed simulate takes: docs/robustness.md)")
     try:
         motor = getattr(Motor, kind)(*params)
     except ValueError as exc:
-        raise PunchError(f"{where}: {exc}") from None
+        raise PunchError(f"{where}: {str(exc).replace('rad/sec', ru)}") from None
     out = {"motor": motor, "flywheel": _float(f"{where} flywheel", table.get("flywheel", 0)),
            "revolutions": _float(f"{where} revolutions", table.get("revolutions", 20)),
            "speed": (None if "speed" not in table
@@ -67,31 +78,55 @@ def motor_of(spec: dict, path: str = "<spec>") -> dict:
     if not isinstance(steady, bool):
         raise PunchError(f"{where} steady = {steady!r}: true or false")
     out["steady"] = steady
+    out["method"] = _name(f"{where} method", table.get("method", METHODS[0]), METHODS)
+    out["rtol"] = _float(f"{where} rtol", table["rtol"]) if "rtol" in table else 1e-8
+    if not RTOL[0] <= out["rtol"] <= RTOL[1]:
+        raise PunchError(f"{where} rtol = {out['rtol']:g}: in [{RTOL[0]:g}, {RTOL[1]:g}]")
     if out["flywheel"] < 0:
         raise PunchError(f"{where} flywheel = {out['flywheel']:g}: an inertia cannot be "
                          "negative")
-    if not 0 < out["revolutions"] <= 1e5:
-        raise PunchError(f"{where} revolutions = {out['revolutions']:g}: in (0, 100000]")
+    most = max_revolutions()
+    if not 0 < out["revolutions"] <= most:
+        raise PunchError(f"{where} revolutions = {out['revolutions']:g}: in (0, {most:g}] "
+                         "(360 samples a revolution, at most 1,048,576 in the CSV); "
+                         "steady = true gives the periodic state in one revolution")
+    if out["speed"] is not None and abs(out["speed"]) > MAX_SPEED:
+        raise PunchError(f"{where} speed = {out['speed']:g}: past {MAX_SPEED:g} {ru} "
+                         "(the largest speed simulate takes: docs/robustness.md)")
     return out
 
 
-def _plot(path: str, r, units: str) -> None:
+def draw(fig, r) -> None:
+    """The run on ``fig``: crank speed, torques and the motor's power against time."""
+    import textwrap
+
+    from sielaff.quantities import unit_of
+
+    ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True)
+    t = r["t"]
+    ax1.plot(t, r["TH2D"], color="C0")
+    ax1.set_ylabel(f"crank speed TH2D [{r.units['TH2D']}]")
+    ax1.set_title("\n".join(textwrap.wrap(r.message, 100)), fontsize=9)
+    ax2.plot(t, r["MOTOR"], label="motor torque MOTOR")
+    ax2.plot(t, r["TORQ"], label="linkage's drive torque TORQ")
+    ax2.set_ylabel(f"torque [{r.units['MOTOR']}]")
+    ax2.legend(fontsize=8)
+    ax3.plot(t, r["MOTOR"] * r["TH2D"], color="C2")
+    ax3.axhline(0.0, color="0.5", lw=0.8)
+    ax3.set_ylabel(f"motor power [{unit_of('power', r.mechanism_units)}]")
+    ax3.set_xlabel("time t [s]")
+    for ax in (ax1, ax2, ax3):
+        ax.grid(alpha=0.3)
+
+
+def _plot(path: str, r) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
-    ax1.plot(r["ATH2"], r["TH2D"], color="C0")
-    ax1.set_ylabel("crank speed TH2D [rad/sec]")
-    ax1.set_title(r.message, fontsize=9)
-    ax2.plot(r["ATH2"], r["MOTOR"], label="motor torque MOTOR")
-    ax2.plot(r["ATH2"], r["TORQ"], label="linkage's drive torque TORQ")
-    ax2.set_ylabel(f"torque [{r.units['MOTOR']}]")
-    ax2.set_xlabel("THETA 2 [deg] (unwrapped)")
-    ax2.legend(fontsize=8)
-    for ax in (ax1, ax2):
-        ax.grid(alpha=0.3)
+    fig = plt.figure(figsize=(8, 8))
+    draw(fig, r)
     fig.tight_layout()
     fig.savefig(path, dpi=100, format="png")
     plt.close(fig)
@@ -131,7 +166,7 @@ def cmd_simulate(args) -> int:
         raise CommandError(f"{path}: simulate reads a TOML spec with a [motor] table")
     deck, scene = load_scene(path)
     try:
-        run = motor_of(read_spec(path), path)
+        run = motor_of(read_spec(path), path, deck.mechanism.units)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     from sielaff.dynamics import simulate
@@ -139,7 +174,7 @@ def cmd_simulate(args) -> int:
     m = deck.mechanism
     r = simulate(m, run["motor"], flywheel=run["flywheel"], scene=scene,
                  speed0=run["speed"], revolutions=run["revolutions"], steady=run["steady"],
-                 outputs=["TORQ"])
+                 outputs=["TORQ"], method=run["method"], rtol=run["rtol"])
     header = ",".join(f"{c}[{r.units[c]}]" for c in COLUMNS)
     table = [header] + [",".join(repr(float(v)) for v in row)
                         for row in zip(*(r[c] for c in COLUMNS))]
@@ -150,8 +185,12 @@ def cmd_simulate(args) -> int:
             with open(temps[0], "w", newline="") as f:
                 f.write(text)
         if args.plot:
-            _plot(temps[-1], r, m.units)
+            _plot(temps[-1], r)
     if not args.output:
         sys.stdout.write(text)
     print(f"sielaff: simulate: {r.message}", file=sys.stderr)
+    from sielaff.dynamics.sizing import sizing_lines
+
+    for line in sizing_lines(r):
+        print(f"sielaff: {line}" if line.startswith("warning:") else line, file=sys.stderr)
     return 0
