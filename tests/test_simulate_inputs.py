@@ -211,3 +211,26 @@ def test_friction_near_the_change_point_finishes_or_says_why_within_the_budget(t
     else:
         assert p.returncode == 2 and len(p.stderr.splitlines()) == 1
         assert not (tmp_path / "f.csv").exists()
+
+
+@pytest.mark.parametrize("steady", [False, True])
+def test_the_integrators_warnings_never_reach_the_user(monkeypatch, steady):
+    """scipy's LSODA warns ("lsoda-- ...", "Excess work done") where it also returns a
+    status; the status is said in one line, the warning never."""
+    import warnings
+
+    import scipy.integrate
+
+    real = scipy.integrate.solve_ivp
+
+    def noisy(*a, **k):
+        warnings.warn("lsoda--  warning..t (=r1) and h (=r2) are such that t + h = t",
+                      UserWarning, stacklevel=2)
+        return real(*a, **k)
+
+    monkeypatch.setattr(scipy.integrate, "solve_ivp", noisy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = simulate(EXAMPLE, MOTOR, flywheel=7.41, speed0=50.0, revolutions=0.2,
+                     steady=steady)
+    assert r.finished

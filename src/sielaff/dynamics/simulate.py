@@ -553,8 +553,10 @@ def _transient(accel, solve_ivp, th0, w0, revs, per_rev, method, rtol, atol, t_m
         return y[0] - th0 - TWO_PI * revs
     done.terminal, done.direction = True, 1
 
-    sol = solve_ivp(rhs, (0.0, t_end), [th0, w0], method=method, rtol=rtol,
-                    atol=[atol, atol], events=[stall, done], dense_output=True)
+    with warnings.catch_warnings():  # lsoda's own: a failure is sol.status, said below
+        warnings.simplefilter("ignore")
+        sol = solve_ivp(rhs, (0.0, t_end), [th0, w0], method=method, rtol=rtol,
+                        atol=[atol, atol], events=[stall, done], dense_output=True)
     if sol.status == -1:
         raise SimulationError(f"simulate: solve_ivp failed ({sol.message})")
     t_stop = float(sol.t[-1])
@@ -656,8 +658,10 @@ def _steady(accel, solve_ivp, brentq, th0, w0, per_rev, method, rtol, atol):
         def slow(_th, y):
             return y[1] - floor
         slow.terminal, slow.direction = True, -1
-        sol = solve_ivp(rhs, (th0, th0 + TWO_PI), [0.0, w_start], method=method,
-                        rtol=rtol, atol=[atol, atol], events=[slow], dense_output=dense)
+        with warnings.catch_warnings():  # a failed revolution is status != 0: None
+            warnings.simplefilter("ignore")
+            sol = solve_ivp(rhs, (th0, th0 + TWO_PI), [0.0, w_start], method=method,
+                            rtol=rtol, atol=[atol, atol], events=[slow], dense_output=dense)
         if sol.status != 0:
             return None
         return sol
