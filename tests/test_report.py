@@ -434,7 +434,7 @@ def test_a_tolerance_spec_gets_its_table(tmp_path, monkeypatch, capsys):
     spec.write_text((DECKS / "tolerance.toml").read_text().replace("n = 2000", "n = 40"))
     seen = {}
 
-    def page(deck, scene, command, at=40.0, tolerances=None):
+    def page(deck, scene, command, at=None, tolerances=None, motor=None):
         seen.update(deck=deck, scene=scene, tolerances=tolerances)
         return "<!DOCTYPE html>\n"
 
@@ -463,7 +463,7 @@ def test_the_si_peaks_and_scene_carry_si_units():
     assert deck.mechanism.units == "SI"
     rows = peak_rows(deck, scene, n=360)
     assert len(rows) >= 4
-    units = {u for _, _, u, _ in rows}
+    units = {p.unit for p in rows}
     assert "N m" in units and "N" in units
     assert units <= {"N", "N m", "m/s", "m/s^2", "rad/s", "rad/s^2", "deg", "W", "-"}
     table = _peaks_table(rows)

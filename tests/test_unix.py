@@ -160,7 +160,7 @@ def test_report_reads_stdin_and_writes_stdout(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     import sielaff.tools.report as report
 
-    def page(deck, scene, command, at=40.0, tolerances=None):
+    def page(deck, scene, command, at=None, tolerances=None, motor=None):
         return f"{deck.path} {deck.mechanism} {scene.branch} {at}\n"
 
     monkeypatch.setattr(report, "report_html", page)

@@ -406,8 +406,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("-o", "--output", required=True, metavar="FILE.html",
                    help="write the page here (atomically; - for stdout)")
-    p.add_argument("--at", type=one_angle, default=40.0, metavar="DEG",
-                   help="the crank angle the linkage is drawn at, deg (default 40)")
+    p.add_argument("--at", type=one_angle, default=None, metavar="DEG",
+                   help="the crank angle the linkage is drawn at, deg (default 40, or the "
+                        "middle of the first arc where the linkage assembles if not at 40)")
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly (default: the spec's [scene] branch, else open)")
 

@@ -81,14 +81,17 @@ class Motor:
         p = dict(self.parameters)
         return p.get("no_load_speed", p.get("synchronous_speed", 0.0))
 
-    def describe(self, torque_unit: str = "in-lb") -> str:
-        """One line: the kind and its parameters with units."""
-        units = {"torque": torque_unit, "stall_torque": torque_unit,
-                 "rated_torque": torque_unit, "breakdown_torque": torque_unit,
-                 "no_load_speed": "rad/sec", "synchronous_speed": "rad/sec",
-                 "rated_speed": "rad/sec", "breakdown_slip": ""}
+    def describe(self, units: str = "in-lb-sec") -> str:
+        """One line: the kind and its parameters, each with its unit in the unit system
+        ``units`` (``"in-lb-sec"`` or ``"SI"``)."""
+        from sielaff.quantities import fmt
+
+        kinds = {"torque": "torque", "stall_torque": "torque", "rated_torque": "torque",
+                 "breakdown_torque": "torque", "no_load_speed": "rate",
+                 "synchronous_speed": "rate", "rated_speed": "rate",
+                 "breakdown_slip": "number"}
         return f"{self.kind} motor: " + ", ".join(
-            f"{k} = {v:.6g}{(' ' + units[k]) if units[k] else ''}" for k, v in self.parameters)
+            f"{k} = {fmt(v, kinds[k], units, '.6g')}" for k, v in self.parameters)
 
     @classmethod
     def constant(cls, torque: float) -> Motor:

@@ -9,8 +9,13 @@ it reads the same offline in any browser and prints to PDF from it.  It holds:
   angle, the peak loads with their angles, the cycle work, the flywheel, the bearings
   and every 1966 quirk the deck triggers);
 * the scene (gravity, crank acceleration, loads, TEX, the branch);
-* a table of peaks, each with the crank angle where it occurs, in the mechanism's units;
-* the linkage drawn at a chosen angle, and one cycle of it animated (a GIF);
+* a table of peaks, each with the crank angle where it occurs, in the mechanism's units,
+  over the angles where the linkage assembles; a quantity that grows without bound
+  toward a toggle is "unbounded", with the toggles and GAMMA there, never a number
+  (:mod:`sielaff.design.peaks`);
+* the linkage drawn at a chosen angle (default 40 deg, or the middle of the first arc
+  where it assembles), and one cycle of it animated (a GIF); a linkage that assembles
+  nowhere is said to, and nothing is drawn;
 * the report's figures (driving torque, the polar diagrams of the bearing forces and of
   the shaking force) and the bearing picture;
 * the balancing answer (Berkof-Lowen counterweights and what they cost);
@@ -18,7 +23,13 @@ it reads the same offline in any browser and prints to PDF from it.  It holds:
   Pareto picture;
 * for a spec with a ``[tolerance]``: the study ``sielaff tolerance`` prints (each figure's
   nominal, spread and first-order estimate, and the sensitivities);
-* a footer with the version and the command that made the page.
+* for a spec with a ``[motor]``: its simulation as ``sielaff simulate`` runs it (speed,
+  torques and power against time) and the motor sizing (:mod:`sielaff.dynamics.sizing`);
+* a footer with the version, the date (``SOURCE_DATE_EPOCH`` when set) and the command
+  that made the page.
+
+Printed (Chromium's PDF, A4), every table fits the page: wide tables shrink and wrap,
+nothing scrolls (tests/test_report_every_linkage.py).
 
 A spec with a ``[synthesis]`` describes no one linkage: its page is the ranking
 ``sielaff synth`` computes (:func:`sielaff.tools.synth.synthesize`), its first
@@ -47,6 +58,7 @@ import numpy as np
 
 from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.quantities import fmt
 
 #: The page's style: print-friendly, no web fonts (nothing is fetched).
 STYLE = """
@@ -61,28 +73,20 @@ table { border-collapse: collapse; font-size: 0.92em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th:first-child, td:first-child { text-align: left; }
 figure { margin: 1em 0; page-break-inside: avoid; }
-figure img { max-width: 100%; border: 1px solid #eee; }
+figure img { max-width: 100%; box-sizing: border-box; border: 1px solid #eee; }
 figcaption { color: #444; font-size: 0.9em; }
 .wide { overflow-x: auto; }
 table.small { font-size: 0.8em; }
 footer { margin-top: 3em; color: #555; font-size: 0.85em; border-top: 1px solid #ccc; }
-@media print { body { margin: 0; max-width: none; } h2 { page-break-after: avoid; } }
+@media print {
+  body { margin: 0; max-width: none; } h2 { page-break-after: avoid; }
+  /* a printed page cannot scroll: wide tables shrink and wrap to its width */
+  .wide { overflow: visible; }
+  table { max-width: 100%; }
+  table.small { font-size: 0.58em; width: 100%; table-layout: fixed; }
+  table.small th, table.small td { padding: 0.1em 0.15em; overflow-wrap: anywhere; }
+}
 """
-
-#: The peaks the table shows: (label, output, how).
-PEAKS = (
-    ("driving torque, largest", "TORQ", "max"),
-    ("driving torque, smallest", "TORQ", "min"),
-    ("shaking force", "SHAK", "max"),
-    ("shaking moment, largest magnitude", "SHAKM", "maxabs"),
-    ("load on pin O2 (FOA)", "FOA", "max"),
-    ("load on pin A (FA32)", "FA32", "max"),
-    ("load on pin B (FB34)", "FB34", "max"),
-    ("load on pin O4 (FOB)", "FOB", "max"),
-    ("transmission angle, least", "GAMMA", "min"),
-    ("transmission angle, greatest", "GAMMA", "max"),
-)
-
 
 def _img(data: bytes, mime: str, alt: str) -> str:
     b64 = base64.b64encode(data).decode("ascii")
@@ -105,39 +109,34 @@ def _png(fig: Any) -> bytes:
     return buf.getvalue()
 
 
-def peak_rows(deck: Deck, scene: Scene, n: int = 3600) -> list[tuple[str, float, str, float]]:
-    """(label, value, unit, THETA 2 [deg]) of each of :data:`PEAKS` over the angles the
-    linkage reaches (a whole revolution when the crank turns fully)."""
-    from sielaff.engine import analyze, reachable
-    from sielaff.quantities import unit
+def peak_rows(deck: Deck, scene: Scene, n: int = 3600) -> list[Any]:
+    """The peaks table's rows (:func:`sielaff.design.peaks.peaks`): over the angles the
+    linkage reaches, a quantity that grows without bound toward a toggle given as such."""
+    from sielaff.design.peaks import peaks
 
-    m = deck.mechanism
-    th = reachable(m, n)
-    names = sorted({p[1] for p in PEAKS})
-    with np.errstate(all="ignore"):
-        import warnings
-
-        from sielaff.engine import AssemblyWarning
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AssemblyWarning)
-            r = analyze(m, th, names, scene=scene)
-    rows = []
-    for label, name, how in PEAKS:
-        v = np.where(np.isfinite(r[name]), r[name], np.nan)
-        if not np.any(np.isfinite(v)):
-            continue
-        i = int(np.nanargmax(np.abs(v) if how == "maxabs" else -v if how == "min" else v))
-        rows.append((label, float(v[i]), unit(name, m.units), float(th[i])))
-    return rows
+    return peaks(deck.mechanism, scene, n)
 
 
-def _peaks_table(rows: list[tuple[str, float, str, float]]) -> str:
+def _peaks_table(rows: list[Any]) -> str:
     out = ["<table><tr><th>peak</th><th>value</th><th>unit</th><th>at THETA 2</th></tr>"]
-    for label, value, u, at in rows:
-        out.append(f"<tr><td>{html.escape(label)}</td><td>{value:.5g}</td>"
-                   f"<td>{html.escape(u)}</td><td>{at:.1f} deg</td></tr>")
+    for p in rows:
+        if p.unbounded:
+            where = ", ".join(f"{t:.2f} deg (GAMMA {g:.0f} deg)"
+                              for t, g in zip(p.toggles, p.gamma))
+            out.append(f"<tr><td>{html.escape(p.label)}</td><td>unbounded</td>"
+                       f"<td>{html.escape(p.unit)}</td><td>grows without bound toward the "
+                       f"toggle{'s' if len(p.toggles) > 1 else ''} at "
+                       f"{html.escape(where)}</td></tr>")
+        else:
+            out.append(f"<tr><td>{html.escape(p.label)}</td><td>{p.value:.5g}</td>"
+                       f"<td>{html.escape(p.unit)}</td><td>{p.at:.1f} deg</td></tr>")
     out.append("</table>")
+    if any(p.unbounded for p in rows):
+        out.append("<p>At a toggle the coupler and the rocker are in line (the transmission "
+                   "angle GAMMA is 0 or 180 deg): a crank that keeps turning cannot drive "
+                   "the rocker through it, and the rates and the forces grow without bound "
+                   "as THETA 2 nears it.  Those rows give no number: the largest value "
+                   "depends only on how near to the toggle one looks.</p>")
     return "\n".join(out)
 
 
@@ -403,12 +402,25 @@ def _page(parts: list[str], command: str) -> str:
     from sielaff.version import __version__
 
     return "\n".join(parts + [
-        f"<footer>Made by sielaff {html.escape(__version__)} with "
+        f"<footer>Made by sielaff {html.escape(__version__)} on {made_on()} with "
         f"<code>{html.escape(command)}</code>.</footer>", "</body>", "</html>", ""])
 
 
-def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
-                tolerances: dict | None = None) -> str:
+def made_on() -> str:
+    """The page's date: now, or ``SOURCE_DATE_EPOCH`` when set (a page made twice from
+    the same input is then the same bytes: reproducible builds' convention)."""
+    import time
+
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    try:
+        when = time.gmtime(int(epoch)) if epoch else time.gmtime()
+    except (ValueError, OverflowError, OSError):
+        when = time.gmtime()
+    return time.strftime("%Y-%m-%d %H:%M UTC", when)
+
+
+def report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
+                tolerances: dict | None = None, motor: dict | None = None) -> str:
     """The whole page for ``deck`` in ``scene`` (see the module doc); ``tolerances``: a
     spec's checked ``[tolerance]`` table, whose study gets a section."""
     from sielaff.design.balance import balance
@@ -418,7 +430,13 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
     from sielaff.tools.common import describe_scene
     from sielaff.tools.plot import plot_data, render_png
     from sielaff.tools.plot.bearings import bearings_figure
-    from sielaff.tools.plot.linkage import _animation, _draw_linkage, linkage_data
+    from sielaff.tools.plot.linkage import (
+        DEFAULT_AT,
+        _animation,
+        _draw_linkage,
+        default_angle,
+        linkage_data,
+    )
     from sielaff.tools.plot.render import _pyplot
 
     m = deck.mechanism
@@ -432,13 +450,23 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
     ]
     parts += scene_section(m, scene, bool(c.turns_fully))
     plt = _pyplot()
-    # the linkage, drawn and animated
+    # the linkage, drawn and animated where it assembles
     parts.append("<h2>The linkage</h2>")
-    fig = _draw_linkage(plt, linkage_data(deck, (at,), (), scene.branch))
-    parts.append(_figure(_png(fig), "image/png",
-                         f"The linkage at THETA 2 = {at:g} deg ({scene.branch} branch)"))
-    parts.append(_figure(_animation(plt, deck, (), scene.branch, frames=FRAMES), "image/gif",
-                         f"One cycle of the linkage (the angles it reaches, {FRAMES} frames)"))
+    if not c.turns_fully and not c.arcs:
+        parts.append("<p>This linkage cannot be put together at any crank angle (link 3 "
+                     "never reaches link 4): there is nothing to draw, and no motion, peak "
+                     "or figure to give.  The check report below says why.</p>")
+    else:
+        where = at if at is not None else default_angle(deck, scene.branch)
+        fig = _draw_linkage(plt, linkage_data(deck, (where,), (), scene.branch))
+        why = "" if at is not None or where == DEFAULT_AT else (
+            f" (the middle of the first arc where it assembles; not at {DEFAULT_AT:g} deg)")
+        parts.append(_figure(_png(fig), "image/png",
+                             f"The linkage at THETA 2 = {where:.6g} deg{why} "
+                             f"({scene.branch} branch)"))
+        parts.append(_figure(_animation(plt, deck, (), scene.branch, frames=FRAMES),
+                             "image/gif", f"One cycle of the linkage (the angles it "
+                                          f"reaches, {FRAMES} frames)"))
     # peaks
     rows = peak_rows(deck, scene)
     if rows:
@@ -468,9 +496,59 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float = 40.0,
         parts.append("<h2>Balancing</h2>")
         parts.append(f"<pre>{html.escape(chr(10).join(lines))}</pre>")
     parts += sweep_section(deck.path, deck, scene)
+    if motor is not None:
+        parts += motor_section(deck, scene, motor)
     if tolerances is not None:
         parts += tolerance_section(deck, scene, tolerances)
     return _page(parts, command)
+
+
+def motor_section(deck: Deck, scene: Scene, run: dict) -> list[str]:
+    """A ``[motor]`` spec's simulation as ``sielaff simulate`` runs it: what happened, the
+    speed, torques and power against time, and the motor sizing."""
+    from sielaff.tools.plot.render import _pyplot
+    from sielaff.tools.simulate import draw
+
+    m = deck.mechanism
+    out = ["<h2>The motor</h2>",
+           f"<p>{html.escape(run['motor'].describe(m.units))}; flywheel "
+           f"{html.escape(fmt(run['flywheel'], 'inertia', m.units, '.6g'))}; "
+           + ("the periodic steady state" if run["steady"] else
+              f"{run['revolutions']:g} revolutions from "
+              + ("the deck's TH2D" if run["speed"] is None else
+                 html.escape(fmt(run["speed"], "rate", m.units, ".6g"))))
+           + ".</p>"]
+    try:
+        import scipy  # noqa: F401
+    except ImportError:
+        return out + ['<p>Not simulated here: simulate needs scipy (pip install -e '
+                      '".[dynamics]").</p>']
+    from sielaff.dynamics import SimulationError, simulate
+    from sielaff.dynamics.sizing import FIGURES, sizing
+
+    try:
+        r = simulate(m, run["motor"], flywheel=run["flywheel"], scene=scene,
+                     speed0=run["speed"], revolutions=run["revolutions"],
+                     steady=run["steady"], outputs=["TORQ"], method=run["method"],
+                     rtol=run["rtol"])
+    except SimulationError as exc:
+        return out + [f"<p>Not simulated: {html.escape(str(exc))}</p>"]
+    plt = _pyplot()
+    fig = plt.figure(figsize=(8, 7.5))
+    draw(fig, r)
+    fig.tight_layout()
+    out.append(f"<p>{html.escape(r.message)}.</p>")
+    out.append(_figure(_png(fig), "image/png",
+                       "The crank speed, the torques and the motor's power against time"))
+    s = sizing(r)
+    rows = [f"<tr><td>{html.escape(words)}</td><td>{s[key]:.6g}</td>"
+            f"<td>{html.escape(s['units'][key])}</td></tr>"
+            for key, words, _ in FIGURES if key in s]
+    out += [f"<p>Motor sizing over {html.escape(s['window'])}:</p>",
+            "<table><tr><th>figure</th><th>value</th><th>unit</th></tr>", *rows,
+            "</table>"]
+    out += [f"<p><b>Warning:</b> {html.escape(w)}.</p>" for w in s["warnings"]]
+    return out
 
 
 def scene_section(m: Any, scene: Scene, figures: bool) -> list[str]:
@@ -538,7 +616,8 @@ def cmd_report(args: Any) -> int:
         done = synthesize(args.deck)
         text = spec_source(args.deck)
         with np.errstate(all="ignore"):
-            page = synthesis_html(done, args.deck, text, command, at=args.at)
+            page = synthesis_html(done, args.deck, text, command,
+                                  at=40.0 if args.at is None else args.at)
     else:
         task = None
         if "tolerance" in tables:
@@ -549,8 +628,19 @@ def cmd_report(args: Any) -> int:
             deck, scene = load_scene(args.deck, any_linkage=True)
         if args.branch:
             scene = scene.replace(branch=args.branch)
+        motor = None
+        if "motor" in tables:
+            from sielaff.tools.common import read_spec
+            from sielaff.tools.simulate import motor_of
+            from sielaff.tools.spec import PunchError
+
+            try:
+                motor = motor_of(read_spec(args.deck), args.deck, deck.mechanism.units)
+            except PunchError as exc:
+                raise CommandError(str(exc), exc.status) from None
         with np.errstate(all="ignore"):
-            page = report_html(deck, scene, command, at=args.at, tolerances=task)
+            page = report_html(deck, scene, command, at=args.at, tolerances=task,
+                               motor=motor)
     if args.output == "-":
         sys.stdout.write(page)
         return 0
