@@ -165,6 +165,8 @@ KINDS: dict[str, tuple[str, str]] = {
     "damping": ("lb sec/in", "N s/m"),
     "rotary damping": ("in-lb-sec", "N m s"),  # a torque per rad/sec
     "number": ("-", "-"),
+    "area": ("in^2", "m^2"),
+    "density": ("lb/in^3", "kg/m^3"),  # a weight per volume, or in SI a mass per volume
 }
 
 

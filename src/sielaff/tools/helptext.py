@@ -118,7 +118,7 @@ def spec_text() -> str:
     tables (the mechanism's keys from the spec reader, ``[scene]``'s from each effect's
     declaration), so a new effect's keys appear here with nothing else edited."""
     from sielaff.quantities import unit
-    from sielaff.tools.spec_fields import OTHER_TABLES, RANGE_KEYS, SPEC_NAMES
+    from sielaff.tools.spec_fields import RANGE_KEYS, SPEC_NAMES
     from sielaff.tools.spec_scene import scene_help
 
     out = ["A spec (*.toml) is a deck's values by name, and what a deck cannot say: the",
@@ -146,13 +146,52 @@ def spec_text() -> str:
     out += [f"{k + ' = ...':<30}# deg" for k in RANGE_KEYS]
     out += ["", "[deck]", 'sequence = "SIEL"             # columns 73-80 of the punched cards', ""]
     out += [scene_help(), ""]
-    others = [t for t in OTHER_TABLES if t != "scene"]
-    out.append(f"[{'], ['.join(others)}]: read by the command that owns each (simulate, "
-               "sweep,")
-    out.append("  synth, tolerance); decks/motor.toml, sweep.toml, synth.toml and "
-               "tolerance.toml")
-    out.append("  show every key with its unit.")
-    return "\n".join(out)
+    for table, (command, keys) in other_tables().items():
+        out.append(f"{'[' + table + ']':<30}# read by sielaff {command} "
+                   f"(decks/{EXAMPLES[table]})")
+        for k in keys:
+            out.append(f"{k.name + ' = ...':<30}# {key_unit(k)}{k.meaning}")
+            out.append(f"{'':30}#   {k.bounds}" + (f"; default {k.default}" if k.default
+                                                    else ""))
+        out.append("")
+    return "\n".join(out).rstrip("\n")
+
+
+#: The worked example of each of the other tables.
+EXAMPLES = {"motor": "motor.toml", "sweep": "sweep.toml", "synthesis": "synth.toml",
+            "tolerance": "tolerance.toml"}
+
+
+def other_tables() -> dict:
+    """The tables besides the deck's and [scene], each with the command that reads it and
+    its declared keys (each reader's own declaration)."""
+    from sielaff.tools.spec_sweep import sweep_keys
+    from sielaff.tools.spec_tables import motor_keys, synthesis_keys, tolerance_keys
+
+    return {"motor": ("simulate", motor_keys()), "sweep": ("sweep", sweep_keys()),
+            "synthesis": ("synth", synthesis_keys()),
+            "tolerance": ("tolerance", tolerance_keys())}
+
+
+def key_unit(k) -> str:
+    """A declared key's unit in both systems, as a prefix (``"in-lb or N m: "``), or
+    ``""`` for a key that has none."""
+    from sielaff.quantities import KINDS
+
+    if k.kind not in KINDS or k.kind == "number":
+        return ""
+    a, b = KINDS[k.kind]
+    return f"{a}: " if a == b else f"{a} or {b}: "
+
+
+def spec_markdown() -> str:
+    """docs/spec.md: ``sielaff help spec`` as a page (made by ``python -m
+    sielaff.tools.helptext spec``; tests/test_spec_reference.py checks it is current)."""
+    return ("# The spec: every table and key\n\n"
+            "Generated from the readers' own declarations by "
+            "`python3 -m sielaff.tools.helptext spec > docs/spec.md` (the same text as "
+            "`sielaff help spec`); `tests/test_spec_reference.py` fails when it is not "
+            "current.\n\n```toml\n" + spec_text() + "\n```\n")
 
 
 TOPICS = {
@@ -184,3 +223,11 @@ def cmd_help(args: argparse.Namespace) -> int:
     text = TOPICS[args.topic][1]
     print(text() if callable(text) else text)
     return 0
+
+
+if __name__ == "__main__":  # python -m sielaff.tools.helptext spec > docs/spec.md
+    import sys
+
+    if sys.argv[1:] != ["spec"]:
+        sys.exit("usage: python -m sielaff.tools.helptext spec")
+    sys.stdout.write(spec_markdown())

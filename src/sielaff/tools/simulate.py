@@ -19,13 +19,10 @@ from __future__ import annotations
 
 import sys
 
+from sielaff.tools.spec_tables import MOTOR_KINDS, motor_keys
+
 COLUMNS = ("t", "ATH2", "TH2D", "TH2DD", "MOTOR", "TORQ")
 
-#: A [motor] table's keys for each kind (besides kind and the run's keys).
-MOTOR_KINDS = {"constant": ("torque",), "linear": ("stall_torque", "no_load_speed"),
-               "induction": ("rated_torque", "rated_speed", "breakdown_torque",
-                             "synchronous_speed")}
-MOTOR_RUN = ("flywheel", "revolutions", "steady", "speed", "method", "rtol")
 
 
 def motor_of(spec: dict, path: str = "<spec>", units: str = "in-lb-sec") -> dict:
@@ -56,7 +53,10 @@ def motor_of(spec: dict, path: str = "<spec>", units: str = "in-lb-sec") -> dict
                          "\"induction\" and its parameters)")
     table = _table(where, spec["motor"])
     kind = _name(f"{where} kind", table.get("kind"), tuple(MOTOR_KINDS))
-    _unknown(where, table, ("kind", *MOTOR_KINDS[kind], *MOTOR_RUN))
+    # the declared keys: kind, this kind's own, and the run's
+    run_keys = [k.name for k in motor_keys() if not any(k.name in v for v in
+                                                         MOTOR_KINDS.values())]
+    _unknown(where, table, (*MOTOR_KINDS[kind], *run_keys))
     params = []
     for key in MOTOR_KINDS[kind]:
         if key not in table:

@@ -11,6 +11,7 @@ for ``[sweep]``; the commands read their own ``[synthesis]``, ``[tolerance]`` an
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from decimal import Decimal
 
 from sielaff.tools.errors import EXIT_DECK as EXIT_SPEC
@@ -43,6 +44,27 @@ RANGE_KEYS = ("start", "step", "stop")
 #: The tables a spec may hold besides the mechanism's: each is read by the command that
 #: owns it (so one spec serves several commands); any other table is refused.
 OTHER_TABLES = ("scene", "sweep", "motor", "synthesis", "tolerance")
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a spec's table as its reader declares it: ``sielaff help spec`` and
+    docs/spec.md are made from these, and the reader refuses any key not declared.
+
+    ``kind``: the kind of quantity (:data:`sielaff.quantities.KINDS`, for its unit in
+    either unit system), ``"name"``, ``"bool"``, ``"integer"``, ``"list"`` or
+    ``"table"``; ``default``: as written in a spec, or ``""`` (required or none);
+    ``bounds``: the values it takes, in words."""
+
+    name: str
+    kind: str
+    default: str
+    bounds: str
+    meaning: str
+
+
+def key_names(keys: tuple[Key, ...]) -> tuple[str, ...]:
+    return tuple(k.name for k in keys)
 
 #: The cards, as listing names (card 7 on: the range cards).
 CARDS = (("W2", "W3", "W4"), ("ZI2", "ZI3", "ZI4"), ("R1", "R2", "R3", "R4"),

@@ -4,12 +4,25 @@ from __future__ import annotations
 
 from decimal import Decimal
 
-from sielaff.tools.spec_fields import PunchError, _number, _table, _unknown
+from sielaff.tools.spec_fields import PunchError, _number, _table, _unknown, key_names
 
-__all__ = ["MAX_DESIGNS", "SWEEP_KEYS", "sweep_of"]
+__all__ = ["MAX_DESIGNS", "sweep_keys", "sweep_of"]
 
-#: The [sweep] table's own keys (the rest are in [sweep.vary]).
-SWEEP_KEYS = ("angles", "cf", "pareto", "vary")
+def sweep_keys() -> tuple:
+    """The ``[sweep]`` table's keys, declared (:class:`~sielaff.tools.spec_fields.Key`)."""
+    from sielaff.design.sweep import MAX_ANGLES, SWEEPABLE
+    from sielaff.tools.spec_fields import Key
+
+    return (
+        Key("angles", "integer", "360", f"even, 8 to {MAX_ANGLES}",
+            "crank angles per revolution"),
+        Key("cf", "number", "0.05", "(0, 2)", "coefficient of speed fluctuation (flywheel)"),
+        Key("pareto", "list", '["TORQ_PEAK", "SHAK_PEAK"]', "two FIGURE or FIGURE:min|max",
+            "the two figures of the Pareto front"),
+        Key("vary", "table", "", f"{MAX_DESIGNS:,} designs in all; names: "
+            + " ".join(SWEEPABLE), "[sweep.vary]: NAME = [values] or "
+            "{ from, to, n } (evenly spaced, both ends)"),
+    )
 #: Designs a sweep may ask for (each is one block's share of memory only while it runs).
 MAX_DESIGNS = 100_000_000
 
@@ -36,7 +49,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
     if not table:
         raise PunchError(f"{path}: no [sweep] table (decks/sweep.toml has one; docs/design.md)")
-    _unknown(f"{path}: [sweep]", table, SWEEP_KEYS)
+    _unknown(f"{path}: [sweep]", table, key_names(sweep_keys()))
     angles = table.get("angles", 360)
     if not (isinstance(angles, int) and not isinstance(angles, bool) and 8 <= angles
             <= MAX_ANGLES and angles % 2 == 0):

@@ -50,19 +50,11 @@ from typing import Any
 
 import numpy as np  # module level: the ulp-nudge harness reaches the functions f names
 
+from sielaff.tools.spec_tables import MAX_PROBLEMS, PROBLEMS, synthesis_keys
+
 #: The functions ``[synthesis.function] f`` may name.
 FUNCTIONS = ("log10", "log", "exp", "sqrt", "square", "cube", "reciprocal", "sin", "cos",
              "tan")
-PROBLEMS = {
-    "crank_rocker": ("swing", "time_ratio", "rocker", "k_max", "members"),
-    "function": ("f", "x_range", "input_range", "output_range", "points", "frame", "samples"),
-    "motion": ("poses", "moving", "fixed", "direction"),
-    "path": ("points", "crank_angles", "starts", "seed"),
-}
-KEYS = ("problem", "by", "pareto", "speed", "angles", "cf", "best", "density", "area",
-        "vary", *PROBLEMS)
-#: Problems a spec may make (the product of [synthesis.vary]).
-MAX_PROBLEMS = 1000
 
 
 def _plain(v: Any) -> Any:
@@ -94,9 +86,10 @@ def read_synthesis(spec: dict, path: str) -> dict:
     if not isinstance(table, dict) or not table:
         raise PunchError(f"{path}: no [synthesis] table (decks/synth.toml has one)")
     where = f"{path}: [synthesis]"
-    extra = [k for k in table if k not in KEYS]
+    keys = [k.name for k in synthesis_keys()]
+    extra = [k for k in table if k not in keys]
     if extra:
-        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(KEYS)})")
+        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(keys)})")
     problem = _name(f"{where} problem", table.get("problem"), tuple(PROBLEMS),
                     f"one of {', '.join(PROBLEMS)}")
     params = table.get(problem, {})

@@ -23,8 +23,6 @@ from __future__ import annotations
 
 from decimal import Decimal
 
-KEYS = ("n", "seed", "distribution", "angles", "cf", "deviations")
-
 
 def read_tolerance(spec: dict, path: str) -> dict:
     """The ``[tolerance]`` table checked (PunchError naming the key)."""
@@ -37,9 +35,12 @@ def read_tolerance(spec: dict, path: str) -> dict:
     where = f"{path}: [tolerance]"
     if not isinstance(table, dict) or not table:
         raise PunchError(f"{path}: no [tolerance] table (decks/tolerance.toml has one)")
-    extra = [k for k in table if k not in KEYS]
+    from sielaff.tools.spec_tables import tolerance_keys
+
+    keys = [k.name for k in tolerance_keys()]
+    extra = [k for k in table if k not in keys]
     if extra:
-        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(KEYS)})")
+        raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(keys)})")
     out = {}
     for key, default, lo, hi in (("n", 1000, 2, MAX_SAMPLES), ("seed", 0, 0, 2 ** 63 - 1),
                                  ("angles", 360, 8, MAX_ANGLES)):
