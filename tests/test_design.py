@@ -373,3 +373,16 @@ def test_sweep_varies_tex_and_the_counterweight_radius():
         r = analyze(m, th, ["TORQ", "FOB"], tex)
         assert rows[i, 4] == pytest.approx(np.abs(r["TORQ"]).max(), rel=1e-12)
         assert rows[i, 10] == pytest.approx(r["FOB"].max(), rel=1e-12)
+
+
+def test_sweep_frame_names_each_kind_as_the_csv_does():
+    """Issue 33: sweep_frame's KIND column was 0.0 (the index into KINDS)."""
+    pytest.importorskip("pandas")
+    from sielaff.design.sweep import Grid, sweep_frame
+    from sielaff.engine.classify import KINDS
+
+    # R1 = 3: s + l = 19 > p + q = 16, a triple rocker beside the crank-rockers
+    frame = sweep_frame(Grid(EXAMPLE, {"R1": [12.0, 3.0], "BALANCE": [0, 1]}), n=64)
+    kinds = list(frame["KIND"])
+    assert set(kinds) == {"crank-rocker", "triple-rocker"} and set(kinds) <= set(KINDS)
+    assert list(frame["BALANCE"]) == [0, 1, 0, 1] and frame["BALANCE"].dtype.kind == "i"

@@ -395,3 +395,16 @@ def test_plot_linkage_draws_any_four_bar(tmp_path):
     assert ok.returncode == 0 and (tmp_path / "a" / "linkage.png").stat().st_size > 10_000
     # the report's figures of a triple rocker: test_plot_not_crank_rocker (slow tier), and
     # of a double crank test_kinds' plot of every kind (its default-tier pair)
+
+
+@pytest.mark.filterwarnings("ignore::sielaff.AssemblyWarning")  # plot says it once
+def test_a_crank_that_swings_has_no_cycle_work_and_says_why():
+    """Issue 33: a double rocker's Fig. 12 said "cycle work = nan J"."""
+    from sielaff.tools.common import load_scene
+
+    for name, turns in (("double-rocker.toml", False), ("example.toml", True)):
+        deck, scene = load_scene(str(DECKS / name), any_linkage=True)
+        notes = " ".join(plot_data(deck, None, scene)["fig12-driving-torque"].notes)
+        assert "nan" not in notes.lower()
+        assert ("cycle work \u222e TORQ" in notes) == turns
+        assert ("no cycle work: the crank swings between toggles" in notes) == (not turns)

@@ -37,3 +37,28 @@ def test_the_best_are_replaced_as_a_set(tmp_path):
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in best.iterdir()) == ["best-1.toml"]
     assert f"removed {len(first) - 1} older file" in r.stderr
+
+
+def test_the_best_spec_has_clean_numbers_that_read_back_the_same(tmp_path):
+    """Issue 33: best-K.toml wrote ``angle = 0E-7`` and ``rocker = 10.0000000``."""
+    import re
+    import tomllib
+
+    from sielaff.tools.synth import _fit
+
+    best = tmp_path / "best"
+    r = procs.run(["synth", str(SPEC), "-o", str(tmp_path / "a.csv"), "--write-best",
+                   str(best)], text=True)
+    assert r.returncode == 0, r.stderr
+    text = (best / "best-1.toml").read_text()
+    numbers = re.findall(r"=\s*(-?[0-9][0-9.Ee+-]*)", text)
+    assert len(numbers) >= 17
+    for n in numbers:
+        assert "E" not in n.upper() and (not n.endswith("0") or n.endswith(".0")
+                                         or "." not in n), n
+    assert "rocker = 10.0\n" in text and "angle = 0.0" in text
+    # the same values as the rounded fields: cleaning changes the digits, never the value
+    for v in (10.0, 0.0, 1.7959140, 6.29779, 123.4567891, -0.5):
+        q = _fit(v)
+        assert float(q) == float(f"{v:.7f}") or abs(float(q) - v) < 5e-4
+        assert tomllib.loads(f"x = {q}")["x"] == float(q)

@@ -142,3 +142,17 @@ def test_report_at_an_angle_that_is_not_one_is_refused(tmp_path, at):
              "--at", at], text=True)
     assert r.returncode == 2 and "--at" in r.stderr and "Traceback" not in r.stderr
     assert not (tmp_path / "r.html").exists()
+
+
+def test_length_options_name_their_unit():
+    """Issue 33: --radius2, --radius4 and --point gave no unit."""
+    import subprocess
+    import sys
+
+    for command, options in (("balance", ("--radius2", "--radius4")), ("plot", ("--point",))):
+        out = subprocess.run([sys.executable, "-m", "sielaff", command, "--help"],
+                             capture_output=True, text=True, timeout=60).stdout
+        flat = " ".join(out.split())
+        for option in options:
+            part = flat.split("options:", 1)[1].split(option + " ", 1)[1][:160]
+            assert "in, or m in SI" in part, (option, part)

@@ -323,7 +323,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "does, nothing is drawn (exit 2)")
     p.add_argument("--point", type=point_spec, action="append", default=[],
                    metavar="LINK:R:ANGLE", help="with --linkage: also trace this point (link "
-                   "2, 3 or 4; R from its base pin; ANGLE deg CCW from its line); repeatable")
+                   "2, 3 or 4; R from its base pin, in the deck's length unit: in, or m in SI; "
+                   "ANGLE deg CCW from its line); repeatable")
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")
@@ -339,9 +340,11 @@ def build_parser() -> argparse.ArgumentParser:
             "force (Berkof-Lowen), and what they cost: shaking moment, torque, pin loads")
     p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("--radius2", type=positive_length, metavar="R",
-                   help="the crank's counterweight this far from O2 (default R2)")
+                   help="the crank's counterweight this far from O2, in the deck's length "
+                        "unit: in, or m in SI (default R2)")
     p.add_argument("--radius4", type=positive_length, metavar="R",
-                   help="the rocker's counterweight this far from O4 (default R4)")
+                   help="the rocker's counterweight this far from O4, in the deck's length "
+                        "unit: in, or m in SI (default R4)")
     p.add_argument("--branch", choices=("open", "crossed"), default=None,
                    help="the assembly analysed (open: the 1966 program's); overrides a "
                         "spec's [scene] branch")

@@ -233,13 +233,21 @@ def column_units(names: list[str], system: str) -> dict[str, str]:
 def sweep_frame(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None = None,
                 **kwargs: Any) -> Any:
     """The whole sweep as a pandas DataFrame (the ``frames`` extra): one row per design,
-    indexed by DESIGN, the units in ``frame.attrs["units"]`` (``iter_blocks``' keywords
-    choose the backend)."""
+    indexed by DESIGN, KIND by name (a categorical of classify.KINDS) as the CSV writes
+    it, the units in ``frame.attrs["units"]`` (``iter_blocks``' keywords choose the
+    backend)."""
     import pandas as pd
 
     cols = columns(grid)
     data = np.concatenate(list(iter_blocks(grid, n, cf, scene, **kwargs)), axis=0)
     frame = pd.DataFrame(data, columns=cols).set_index("DESIGN")
     frame.index = frame.index.astype(int)
+    if "KIND" in frame:  # by name, as the CSV writes it (the array holds KINDS' index)
+        from sielaff.engine.classify import KINDS
+
+        frame["KIND"] = pd.Categorical([KINDS[int(k)] for k in frame["KIND"]],
+                                       categories=list(KINDS))
+    if "BALANCE" in frame:
+        frame["BALANCE"] = frame["BALANCE"].astype(int)
     frame.attrs["units"] = column_units(cols, grid.base.units)
     return frame

@@ -307,8 +307,8 @@ def _candidates_figure(done: Any, at: float) -> bytes:
 
 
 def _pareto_figure(done: Any) -> bytes:
-    """Every candidate in the two Pareto figures, the front joined, the first three by
-    rank numbered."""
+    """Every candidate in the two Pareto figures, the front's points marked (not joined),
+    the first three by rank numbered."""
     from sielaff.design.figures import FIGURES
     from sielaff.quantities import unit
     from sielaff.synthesis.rank import MAXIMISED
@@ -323,7 +323,8 @@ def _pareto_figure(done: Any) -> bytes:
     ax.scatter(x[ok], y[ok], s=14, color="0.6", label=f"candidates ({int(ok.sum())} of "
                f"{len(x)} turn fully)")
     p = np.asarray(r.pareto, dtype=int)
-    ax.plot(x[p], y[p], "o-", color="tab:red", ms=5, label=f"Pareto front ({len(p)})")
+    # markers only: a line between front points would suggest designs between them
+    ax.plot(x[p], y[p], "o", color="tab:red", ms=5, label=f"Pareto front ({len(p)})")
     for k, i in enumerate(r.order[:3], 1):
         if ok[i]:
             ax.annotate(f"#{k}", (x[i], y[i]), xytext=(5, 5), textcoords="offset points",

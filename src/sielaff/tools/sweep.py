@@ -201,7 +201,7 @@ def cmd_sweep(args) -> int:
             raise CommandError(f"sielaff: --pareto {args.pareto}: "
                                f"{str(exc).removeprefix('pareto: ')}") from None
     px, py = (names.index(p) for p, _ in pair)
-    xs, ys = [], []
+    xs, ys, ds = [], [], []
     dropped: dict[int, int] = {}  # KIND index -> designs left out
     paths = [p for p in (args.output, args.plot) if p]
     try:
@@ -220,13 +220,14 @@ def cmd_sweep(args) -> int:
                         out.write("\n".join(_rows(block, names)) + "\n")
                     xs.append(block[:, px])
                     ys.append(block[:, py])
+                    ds.append(block[:, names.index("DESIGN")])
             finally:
                 if args.output:
                     out.close()
             if args.plot:
                 _plot(temps[-1], np.concatenate(xs), np.concatenate(ys),
                       tuple(p for p, _ in pair), m.units, grid.size,
-                      tuple(s for _, s in pair))
+                      tuple(s for _, s in pair), np.concatenate(ds))
     finally:
         if client is not None:
             _close(client)
@@ -321,7 +322,12 @@ def _close(client) -> None:
     logging.disable(logging.NOTSET)
 
 
-def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min")) -> None:
+#: A Pareto front of at most this many designs has each one labelled.
+FRONT_LABELS = 30
+
+
+def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"),
+          designs=None) -> None:
     import matplotlib
     import numpy as np
 
@@ -335,7 +341,12 @@ def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min")) 
     fig, ax = plt.subplots(figsize=(7, 5), dpi=120)
     ok = np.isfinite(x) & np.isfinite(y)
     ax.scatter(x[ok], y[ok], s=4, color="0.7", label=f"designs ({int(ok.sum())} of {size})")
-    ax.plot(x[front], y[front], "o-", ms=3, color="C3", label=f"Pareto front ({len(front)})")
+    # markers only: a line between front points would suggest designs between them
+    ax.plot(x[front], y[front], "o", ms=4, color="C3", label=f"Pareto front ({len(front)})")
+    if len(front) <= FRONT_LABELS:  # each front design by its DESIGN, the CSV's column
+        for i in front:
+            ax.annotate(f"{int(i if designs is None else designs[i])}", (x[i], y[i]),
+                        xytext=(4, 4), textcoords="offset points", fontsize=7, color="C3")
     word = {"min": "minimised", "max": "maximised"}
     ax.set_xlabel(f"{pair[0]} ({FIGURES[pair[0]][1]}, {word[senses[0]]}) "
                   f"[{unit(FIGURES[pair[0]][0], system)}]")
@@ -343,6 +354,9 @@ def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min")) 
                   f"[{unit(FIGURES[pair[1]][0], system)}]")
     ax.legend(loc="upper right")
     ax.grid(True, alpha=0.3)
+    ax.set_title(f"Pareto front of {pair[0]} and {pair[1]}: {size:,} designs"
+                 + (" (each front design labelled with its DESIGN)"
+                    if len(front) <= FRONT_LABELS else ""), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, format="png")
     plt.close(fig)

@@ -329,8 +329,15 @@ def _fit(value: float) -> Decimal:
             punch_field(q)
         except ValueError:
             continue
-        return q
+        return _clean(q)
     raise ValueError(f"{float(value):g} does not fit an 8-column field")
+
+
+def _clean(q: Decimal) -> Decimal:
+    """``q`` without trailing zeros, one decimal at least: 10.0000000 is 10.0, 0E-7 is
+    0.0 (the same value; a spec reads as a person wrote it)."""
+    q = q.normalize()
+    return q.quantize(Decimal("0.1")) if q == q.to_integral_value() else q
 
 
 def _values(m) -> dict:

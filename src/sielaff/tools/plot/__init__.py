@@ -262,14 +262,22 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
         return out
 
     ath2, v = _evaluate(deck, ["TORQ"], scene)
-    work, abs_work = cycle_work(deck.mechanism, scene=scene)
+    from sielaff.engine import linkage_class
+
+    if linkage_class(deck.mechanism).turns_fully:
+        work, abs_work = cycle_work(deck.mechanism, scene=scene)
+        work_notes = [f"cycle work \u222e TORQ d\u03b8\u2082 = "
+                      f"{work_text(work, abs_work, system)}\n(\u222e |TORQ| d\u03b8\u2082 = "
+                      f"{fmt(abs_work, 'work', system, '.0f')})"]
+    else:  # no revolution, no cycle: a NaN would be the only number to print
+        work_notes = ["no cycle work: the crank swings between toggles and makes no "
+                      "revolution\n(TORQ grows without bound toward each toggle)"]
     fig12 = PlotData(
         "fig12-driving-torque", f"Fig. 12  Driving torque against THETA 2\n{sub}", "line",
         ath2, XLABEL, f"driving torque TORQ ({units['torque']})",
         series={"driving torque TORQ": v["TORQ"]},
         zero_line=True,
-        notes=[f"cycle work \u222e TORQ d\u03b8\u2082 = {work_text(work, abs_work, system)}"
-               f"\n(\u222e |TORQ| d\u03b8\u2082 = {fmt(abs_work, 'work', system, '.0f')})"])
+        notes=work_notes)
     pts = _deck_points(deck)
     if pts is not None:
         fig12.points["deck positions (listing sheets)"] = (
