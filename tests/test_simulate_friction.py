@@ -137,3 +137,27 @@ def test_friction_that_cannot_converge_is_one_line():
     # goes on until the law has none, or the joint solve with the acceleration fails
     assert "\n" not in str(e.value) and ("does not converge at THETA 2 = " in str(e.value)
                                          or "has no solution at THETA 2 = " in str(e.value))
+
+
+def test_where_the_tables_fixed_point_diverges_the_engines_solve_decides(monkeypatch):
+    """Issue 32, family 7: a state whose friction the tables' iteration cannot solve goes
+    to the engine's Newton solve instead of ending the run (the iteration is made to fail
+    everywhere here, so every state takes the engine's path: the same motion)."""
+    import importlib
+
+    fr = importlib.import_module("sielaff.dynamics.friction")
+    kw = dict(flywheel=FW, scene=SCENE, speed0=50.0, revolutions=0.05, rtol=1e-10)
+    tables = simulate(EXAMPLE, MOTOR, **kw)
+    calls = []
+    real = fr.FrictionTables._solve
+
+    def diverges(self, *a):
+        calls.append(1)
+        raise fr.FrictionError("the friction solve does not converge (made to fail)")
+
+    monkeypatch.setattr(fr.FrictionTables, "_solve", diverges)
+    engine = simulate(EXAMPLE, MOTOR, **kw)
+    assert calls and real is not diverges  # the tables were tried, and failed, every time
+    assert engine.mode == "tables" and engine.finished and tables.engine_states == 0
+    assert engine.engine_states >= engine.evaluations
+    assert engine["TH2D"][-1] == pytest.approx(tables["TH2D"][-1], rel=1e-7)

@@ -107,7 +107,8 @@ class Simulation(dict):
     stopped and would turn back), ``finished`` (it made the revolutions asked for, or
     for ``steady``, the steady state was found), ``message`` (one line saying which),
     ``steady``, ``flywheel`` [in-lb-sec^2 or kg m^2], ``motor``, ``mode`` (``"tables"``
-    or ``"engine"``: how the equation of motion was evaluated), ``evaluations`` (of the
+    or ``"engine"``: how the equation of motion was evaluated; ``engine_states``: the
+    states the friction tables could not solve, solved by the engine), ``evaluations`` (of the
     equation of motion), ``method``, ``rtol``, ``units`` (a unit for each key).
     """
 
@@ -122,6 +123,8 @@ class Simulation(dict):
     method: str = "LSODA"
     rtol: float = 1e-8
     units: dict[str, str] = {}
+    #: States whose friction the tables' iteration could not solve, solved by the engine.
+    engine_states: int = 0
     #: The unit system of the numbers (the mechanism's): "in-lb-sec" or "SI".
     mechanism_units: str = "in-lb-sec"
 
@@ -378,11 +381,14 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
     if ftab is not None and not ftab.ok:
         ftab = None
     count = [0]
+    fallbacks = [0]
 
     def accel_many(theta: Any, w: Any) -> np.ndarray:
         """TH2DD at crank angles ``theta`` [rad] and speeds ``w`` [rad/sec] (arrays), by
-        the engine: one call for TORQ at a = 0 and a = 1, then, with friction, one call
-        per iteration for every state still short of 1e-12 of its torque scale."""
+        the friction tables when they fit and converge, else by the engine (whose pin
+        friction is a Newton solve that finds every solution the law has): one call for
+        TORQ at a = 0 and a = 1, then, with friction, one call per iteration for every
+        state still short of 1e-12 of its torque scale."""
         theta, w = np.atleast_1d(theta).astype(float), np.atleast_1d(w).astype(float)
         mt = np.asarray(motor(w), dtype=float) * np.ones_like(w)
         if not np.all(np.isfinite(mt)):
@@ -392,8 +398,9 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
         if ftab is not None:
             try:
                 return ftab.accel(theta, w, mt)
-            except FrictionError as exc:
-                raise SimulationError(str(exc)) from None
+            except FrictionError:
+                fallbacks[0] += len(w)  # the tables' fixed point diverged: the engine's
+                # Newton solve decides these states
         deg = np.degrees(theta)
         with warnings.catch_warnings():  # a NaN is one line below, never a warning
             warnings.simplefilter("ignore")
@@ -496,6 +503,7 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
                               f"{count[0]} evaluations of the equation of motion by {how}: "
                               "fewer revolutions, a looser rtol or less friction") from None
     result.evaluations = count[0]
+    result.engine_states = fallbacks[0]
     # The samples' results a block at a time: memory flat in the revolutions.
     parts: dict[str, list[np.ndarray]] = {}
     for i in range(0, len(t), SAMPLE_BLOCK):
