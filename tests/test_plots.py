@@ -408,3 +408,21 @@ def test_a_crank_that_swings_has_no_cycle_work_and_says_why():
         assert "nan" not in notes.lower()
         assert ("cycle work \u222e TORQ" in notes) == turns
         assert ("no cycle work: the crank swings between toggles" in notes) == (not turns)
+
+
+def test_a_link_angle_that_wraps_breaks_its_line_instead_of_crossing_the_figure():
+    """Issue 33: THETA 3's wrap was drawn as a vertical line."""
+    from sielaff.tools.common import load_scene
+
+    deck, scene = load_scene(str(DECKS / "double-crank.toml"), any_linkage=True)
+    d = plot_data(deck, "kinematics", scene)["kin-link-angles"]
+    raw = engine.analyze(deck.mechanism, d.ath2, ["ATH3", "ATH4"], scene=scene)
+    wraps = 0
+    for name, label in (("ATH3", "THETA 3 (link 3)"), ("ATH4", "THETA 4 (link 4)")):
+        jumps = np.abs(np.diff(raw[name])) > 180.0
+        wraps += int(np.count_nonzero(jumps))
+        y = d.series[label]
+        finite = np.isfinite(y[1:]) & np.isfinite(y[:-1])
+        assert not np.any(np.abs(np.diff(y))[finite] > 180.0)
+        assert np.count_nonzero(np.isnan(y)) == np.count_nonzero(jumps)  # only the wraps
+    assert wraps >= 1  # the case is drawn: a link of the double crank turns fully

@@ -220,6 +220,21 @@ POLAR_FIGURES = (
      "SHAKE", "SHAK", "DSHAK", False),
 )
 
+#: Link angles, which wrap a revolution: their lines break where they do.
+WRAPPING = ("ATH3", "ATH4")
+
+
+def _break_wraps(y):
+    """``y`` [deg] with NaN where it jumps by more than 180 deg from the last position
+    (a link angle wrapping a revolution), so the line breaks there instead of being
+    drawn across the figure."""
+    y = np.array(y, dtype=float)
+    with np.errstate(invalid="ignore"):
+        jump = np.abs(np.diff(y)) > 180.0
+    y[1:][jump] = np.nan
+    return y
+
+
 KINEMATIC_FIGURES = (
     # name, title, y label, [(listing name, legend label)]
     ("kin-link-angles", "Angles of links 3 and 4, and the transmission angle",
@@ -258,7 +273,8 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
         for name, title, ylabel, curves in KINEMATIC_FIGURES:
             out[name] = PlotData(name, f"{title}\n{sub}", "line", ath2, XLABEL,
                                  ylabel.format_map(units),
-                                 series={label: v[n] for n, label in curves})
+                                 series={label: _break_wraps(v[n]) if n in WRAPPING else v[n]
+                                         for n, label in curves})
         return out
 
     ath2, v = _evaluate(deck, ["TORQ"], scene)
