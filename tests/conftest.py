@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import shutil
 from pathlib import Path
 
 import pytest
@@ -94,3 +95,23 @@ LONGEST_FIRST = ("test_compiled.py", "test_ibm1410.py", "test_report.py", "test_
 def pytest_collection_modifyitems(session, config, items):
     rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: files stay whole
+
+
+#: Debian's chromium, for the report's browser tests, and the flags that keep it offline.
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    """Headless Chromium through Playwright (the ``browser`` extra), one per test module;
+    skipped, saying why, where either is missing."""
+    if CHROMIUM is None:
+        pytest.skip("no chromium here (Debian's package: apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api",
+                                   reason="the browser extra: pip install -e '.[browser]'")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        yield b
+        b.close()

@@ -17,7 +17,6 @@ import base64
 import html.parser
 import io
 import os
-import shutil
 import subprocess
 import sys
 
@@ -294,21 +293,7 @@ def test_a_failure_while_writing_leaves_the_old_page(tmp_path, monkeypatch, caps
 
 # ----- in a real browser ---------------------------------------------------------------
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if CHROMIUM is None:
-        pytest.skip("no chromium here (Debian's package: apt-get install chromium)")
-    sync_api = pytest.importorskip("playwright.sync_api",
-                                   reason="the browser extra: pip install -e '.[browser]'")
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
-        yield b
-        b.close()
+# the browser fixture (Debian's chromium through Playwright) is conftest.py's
 
 
 @pytest.mark.parametrize("name", tiered([n for n, _ in PAGES], DEFAULT_PAGES))

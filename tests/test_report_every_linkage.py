@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from conftest import DECKS
-from test_report import CHROMIUM, FLAGS, MAKE_PAGES, _check, _Table
+from test_report import MAKE_PAGES, _check, _Table
 
 pytest.importorskip("matplotlib")
 pytestmark = pytest.mark.slow
@@ -115,18 +115,6 @@ def test_each_page(pages, name):
     if name in ("motor.toml", "friction.toml"):
         assert "The motor" in text and "RMS torque (the continuous rating)" in text
         assert "The crank speed, the torques and the motor's power against time" in text
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if CHROMIUM is None:
-        pytest.skip("no chromium here (Debian's package: apt-get install chromium)")
-    sync_api = pytest.importorskip("playwright.sync_api",
-                                   reason="the browser extra: pip install -e '.[browser]'")
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
-        yield b
-        b.close()
 
 
 #: Whatever is wider than the body, or than its own box (it would scroll), in print.

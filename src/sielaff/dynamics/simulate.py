@@ -335,8 +335,8 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
     if not bool(np.all(linkage_class(mechanism).turns_fully)):
         raise SimulationError("simulate: the crank cannot make a whole revolution (not a "
                               "crank-rocker or double-crank on this branch)")
-    w0 = _check_speed("speed0" if speed0 is not None else "the mechanism's TH2D",
-                      mechanism.TH2D if speed0 is None else speed0)
+    start_name = "speed0" if speed0 is not None else "the mechanism's TH2D"
+    w0 = _check_speed(start_name, mechanism.TH2D if speed0 is None else speed0)
     revs = _check_speed("revolutions", revolutions)
     if isinstance(per_revolution, bool) or not isinstance(per_revolution, int) \
             or not 2 <= per_revolution <= 100_000:
@@ -348,7 +348,7 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
                 f"revolutions = {revolutions!r}: in (0, {most:g}] ({per_revolution} "
                 f"samples a revolution, at most {MAX_SAMPLES:,} in a result: its memory); "
                 "steady = True gives the periodic state in one revolution")
-    speeds = [("speed0" if speed0 is not None else "the mechanism's TH2D", w0)]
+    speeds = [(start_name, w0)]
     if speed0 is not None:
         speeds.append(("the mechanism's TH2D", float(mechanism.TH2D)))
     speeds += [(f"the motor's {k}", float(v)) for k, v in getattr(motor, "parameters", ())

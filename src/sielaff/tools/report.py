@@ -189,7 +189,8 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
                     + "</tr>")
     rows.append("</table>")
     buf = io.BytesIO()
-    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses)
+    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses,
+          designs=data[:, cols.index("DESIGN")])
     return out + rows + [_figure(buf.getvalue(), "image/png",
                                  f"The sweep's designs and the Pareto front of {px} and {py}")]
 

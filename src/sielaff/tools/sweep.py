@@ -227,7 +227,7 @@ def cmd_sweep(args) -> int:
             if args.plot:
                 _plot(temps[-1], np.concatenate(xs), np.concatenate(ys),
                       tuple(p for p, _ in pair), m.units, grid.size,
-                      tuple(s for _, s in pair), np.concatenate(ds))
+                      tuple(s for _, s in pair), designs=np.concatenate(ds))
     finally:
         if client is not None:
             _close(client)
@@ -326,8 +326,8 @@ def _close(client) -> None:
 FRONT_LABELS = 30
 
 
-def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"),
-          designs=None) -> None:
+def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"), *,
+          designs) -> None:
     import matplotlib
     import numpy as np
 
@@ -345,7 +345,7 @@ def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"),
     ax.plot(x[front], y[front], "o", ms=4, color="C3", label=f"Pareto front ({len(front)})")
     if len(front) <= FRONT_LABELS:  # each front design by its DESIGN, the CSV's column
         for i in front:
-            ax.annotate(f"{int(i if designs is None else designs[i])}", (x[i], y[i]),
+            ax.annotate(f"{int(designs[i])}", (x[i], y[i]),
                         xytext=(4, 4), textcoords="offset points", fontsize=7, color="C3")
     word = {"min": "minimised", "max": "maximised"}
     ax.set_xlabel(f"{pair[0]} ({FIGURES[pair[0]][1]}, {word[senses[0]]}) "
