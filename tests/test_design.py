@@ -125,6 +125,16 @@ def test_balanced_shaking_force_vanishes(m, th2dd):
     assert float(after.max()) <= 1e-9 * scale + 1e-12
 
 
+def test_balance_of_a_subnormal_weight_stays_finite():
+    """Hypothesis found it: a rocker weighing 2.2E-313 lb made the merged rocker's RG4 and
+    ZI4 NaN (a complex division by a subnormal number scales by its reciprocal, inf)."""
+    m = EXAMPLE.replace(R1=3.0, R2=1.0, R3=3.0, R4=3.0, W2=0.0, W3=0.0, W4=2.2250738585e-313,
+                        ZI2=0.0, ZI3=0.0, ZI4=0.0, RG2=0.0, RG3=0.0, RG4=0.0, ADEL3=0.0)
+    b = balance(m)
+    assert all(np.isfinite(v) for v in b.as_tuple()[:-1])
+    assert b.RG4 == 0.0 and b.ZI4 == 0.0
+
+
 def test_balance_merges_point_masses_exactly():
     """The merged link: total weight, first moment and inertia about O2 / O4 are the sums
     of the link's and the counterweight's (computed here from the counterweight alone)."""
@@ -347,6 +357,12 @@ def test_bearings_plot_draws_the_data_without_overlaps():
             line = axes[row * 4 + col].lines[0]
             np.testing.assert_array_equal(line.get_ydata(), pin.load)
             np.testing.assert_array_equal(line.get_xdata(), np.radians(member.direction))
+            # every ring value carries its unit, and reads the ring it labels
+            ax = axes[row * 4 + col]
+            rings = [t.get_text() for t in ax.get_yticklabels()]
+            assert len(rings) == 2 and all(t.endswith(" lb") for t in rings), rings
+            for t, v in zip(rings, ax.get_yticks()):
+                assert float(t.split()[0]) == pytest.approx(v, rel=5e-3)
     assert overlapping(text_boxes(fig)) == []
 
 

@@ -426,3 +426,40 @@ def test_a_link_angle_that_wraps_breaks_its_line_instead_of_crossing_the_figure(
         assert not np.any(np.abs(np.diff(y))[finite] > 180.0)
         assert np.count_nonzero(np.isnan(y)) == np.count_nonzero(jumps)  # only the wraps
     assert wraps >= 1  # the case is drawn: a link of the double crank turns fully
+
+
+def test_crowded_marks_near_the_pole_share_a_label():
+    """decks/scene.toml's Fig. 13 passes the pole with several crank angles landing on one
+    spot, and the tolerance deck balanced packs wide ring labels along a near-horizontal
+    direction: no two texts overlap, every marked THETA 2 is still named by a label, and
+    the ring labels shown each carry the unit."""
+    import dataclasses
+
+    from sielaff import balance
+    from sielaff.tools import plot as plots
+    from sielaff.tools.common import load_scene
+
+    plt = plots._pyplot()
+    merged = thinned = 0
+    for name, balanced in (("scene.toml", False), ("tolerance.toml", True)):
+        deck, scene = load_scene(str(DECKS / name))
+        if balanced:
+            deck = dataclasses.replace(deck, mechanism=balance(deck.mechanism))
+        d = plot_data(deck, None, scene)["fig13-force-4-on-1"]
+        fig = plots._draw_polar(plt, d)
+        try:
+            boxes = plots.text_boxes(fig)
+            assert plots.overlapping(boxes) == [], name
+            texts = [t for t, _ in boxes]
+            named = {v for t in texts for v in t.split("/") if v.isdigit()}
+            assert {f"{m:g}" for m in d.marks} <= named, name
+            merged += sum(1 for t in texts if "/" in t and t != "0/360")
+            ax = fig.axes[0]
+            rings = [t.get_text() for t in ax.get_yticklabels()]
+            shown = [t for t in rings if t]
+            assert shown and all(t.endswith(f" {d.r_unit}") for t in shown)
+            thinned += len(shown) < len([v for v in ax.get_yticks() if v <= 0.9 * ax.get_ylim()[1]])
+        finally:
+            plt.close(fig)
+    # the cases are drawn: a merged label near the pole, and rings left unlabelled
+    assert merged >= 1 and thinned >= 1

@@ -393,15 +393,18 @@ def test_a_synthesis_spec_gets_its_ranking(slow_pages):
         t.feed(f.read())
     table = next(tb for tb in t.tables if tb[0][:2] == ["rank", "cand."])
     head, rows = table[0], table[1:]
-    assert head == ["rank", "cand.", "problem", "branch", "R1 [in]", "R2 [in]", "R3 [in]",
-                    "R4 [in]", "TORQ_PEAK [in-lb]", "SHAK_PEAK [lb]", "TORQ_RMS [in-lb]",
-                    "GAMMA_MIN [deg]", "Pareto"]
+    assert head == ["rank", "cand.", "time_ratio", "k", "side", "branch", "R1 [in]",
+                    "R2 [in]", "R3 [in]", "R4 [in]", "TORQ_PEAK [in-lb]", "SHAK_PEAK [lb]",
+                    "TORQ_RMS [in-lb]", "GAMMA_MIN [deg]", "Pareto"]
     assert len(rows) == 20
     front = {int(i) for i in r.pareto}
-    for k, (row, i) in enumerate(zip(rows, r.order), 1):
+    for row, i in zip(rows, r.order):
         cell = dict(zip(head, row))
-        assert cell["rank"] == str(k) and cell["cand."] == str(int(i))
-        assert cell["problem"] == str(origin[i]) and cell["branch"] == r.branches[i]
+        assert cell["rank"] == str(r.ranks[i]) and cell["cand."] == str(int(i))
+        # each row names what it came from: the varied time ratio, k and side
+        assert cell["time_ratio"] == f"{(1.15, 1.25)[origin[i]]:.4g}"
+        assert cell["k"] == f"{cands[i].k:.4g}" and cell["side"] == cands[i].side
+        assert cell["branch"] == r.branches[i]
         assert cell["R2 [in]"] == f"{r.mechanisms[i].R2:.5g}"
         for fig, u in (("TORQ_PEAK", "in-lb"), ("SHAK_PEAK", "lb"), ("GAMMA_MIN", "deg")):
             assert cell[f"{fig} [{u}]"] == f"{r.figures[fig][i]:.5g}"

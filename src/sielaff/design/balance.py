@@ -82,7 +82,9 @@ def _merge(w, zi, rg, adel, c: Counterweight, divisor: float):
     g_c = _moment(1.0, c.radius, c.angle)
     w_new = w + c.weight
     with np.errstate(all="ignore"):
-        g_new = np.where(w_new > 0, (w * g_old + c.weight * g_c) / w_new, 0.0)
+        # real fractions of the weight: a complex division by a subnormal weight scales
+        # by its reciprocal (inf) and turns 0 into NaN
+        g_new = np.where(w_new > 0, (w / w_new) * g_old + (c.weight / w_new) * g_c, 0.0)
     zi_new = zi + (w * np.abs(g_old - g_new) ** 2 + c.weight * np.abs(g_c - g_new) ** 2) / divisor
     rg_new = np.abs(g_new)
     adel_new = np.where(rg_new > 0, np.degrees(np.angle(g_new)), 0.0)

@@ -16,6 +16,22 @@ instead); a candidate whose crank cannot turn fully has NaN figures and comes la
 the order given.  The Pareto front is the set of candidates no other candidate matches or
 beats in both ``pareto`` figures and beats in one.
 
+**Near-ties** do not go by the order given: a figure's values are grouped before
+sorting, a gap of more than ``tie`` times the figure's largest magnitude among the
+candidates starting a new group (chained: a run of values each within the gap of the
+next is one group), so two candidates whose figure differs by less than that (by
+rounding, or a mirror image's last bits) are tied on it and the next figure decides.
+Candidates tied on every ``by`` figure share a rank (``ranks``: 1, 1, 3, ...); among
+them the remaining figures of :data:`RANKABLE`, in that order and grouped the same way,
+then the order given, decide who is listed first.
+
+**Constraints** bound any figure of :data:`RANKABLE` or of :data:`LINK_FIGURES` (the
+longest and shortest link, and any ratio ``"Ri/Rj"`` of two links): ``{name: (least,
+most)}``, ``None`` for no bound, each in the figure's unit.  A candidate that breaks one
+is infeasible: ``feasible`` is False, ``violations`` says which bound it broke by how
+much, it ranks after every feasible candidate (and before those whose crank cannot
+turn) and is never on the Pareto front.
+
 Large sets go the sweep's way (:mod:`sielaff.design.sweep`): blocks of
 :data:`~sielaff.design.sweep.BLOCK` candidates, each one call of ``figures``, in this
 process or as dask tasks (local threads, or a dask.distributed ``client``); the blocks and
@@ -24,7 +40,8 @@ the function are the same on every path, so the figures are too, bit for bit.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import re
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,10 +53,17 @@ from sielaff.engine.scene import Scene
 from sielaff.mechanism import FIELD_NAMES, Mechanism
 from sielaff.synthesis.common import masses
 
-__all__ = ["MAXIMISED", "RANKABLE", "Ranking", "pareto_front", "rank"]
+__all__ = ["LINK_FIGURES", "MAXIMISED", "RANKABLE", "Ranking", "constraint_unit",
+           "pareto_front", "rank"]
 
 #: The figures a ranking can use (KIND is a label, not a figure of merit).
 RANKABLE = tuple(f for f in FIGURES if f != "KIND")
+#: What a constraint may bound besides the RANKABLE figures: the longest and shortest link
+#: [length unit]; a ratio of two links, "R3/R2" [-], by that name (RATIO).
+LINK_FIGURES = {"LONGEST": "the longest of R1 to R4", "SHORTEST": "the shortest of R1 to R4"}
+RATIO = re.compile(r"R([1-4])/R([1-4])")
+#: Two values of a figure closer than this times its largest magnitude are tied (module doc).
+TIE = 1e-9
 #: A candidate set larger than this goes to dask (when installed) with backend="auto".
 SMALL = 1024
 
@@ -65,6 +89,10 @@ class Ranking:
     pareto: np.ndarray
     pareto_by: tuple[str, str]
     units: str
+    feasible: np.ndarray
+    violations: tuple[str, ...]
+    ranks: np.ndarray
+    constraints: dict[str, tuple[float | None, float | None]]
 
     def __len__(self) -> int:
         return len(self.mechanisms)
@@ -80,9 +108,15 @@ class Ranking:
         order = np.asarray(self.order, dtype=int)
         frame = pd.DataFrame({f: np.asarray(v)[order] for f, v in self.figures.items()},
                              index=pd.Index(order, name="CANDIDATE"))
-        frame.insert(0, "RANK", np.arange(1, len(order) + 1))
+        frame.insert(0, "RANK", np.asarray(self.ranks)[order])
+        frame["FEASIBLE"] = np.asarray(self.feasible)[order]
+        frame["VIOLATES"] = [self.violations[i] for i in order]
+        for attr in ("k", "side"):  # a crank-rocker family's free choice
+            if all(hasattr(c, attr) for c in self.candidates):
+                frame[attr.upper()] = [getattr(self.candidates[i], attr) for i in order]
         frame.attrs["units"] = column_units(list(self.figures), self.units)
-        frame.attrs["units"]["RANK"] = "-"
+        frame.attrs["units"].update({c: "-" for c in frame.columns
+                                     if c not in frame.attrs["units"]})
         return frame
 
     def best(self, k: int = 1) -> list[Any]:
@@ -108,6 +142,90 @@ def pareto_front(x: Any, y: Any) -> np.ndarray:
             front.append(int(i))  # a duplicate of a point on the front is on it too
             best = y[i]
     return np.array(front, dtype=int)
+
+
+def constraint_unit(name: str, units: str) -> str:
+    """The unit a constraint on ``name`` is written in (ValueError: nothing of that name)."""
+    from sielaff.quantities import unit
+
+    if name in RANKABLE:
+        return unit(FIGURES[name][0], units)
+    if name in LINK_FIGURES:
+        return unit("R1", units)
+    m = RATIO.fullmatch(name)
+    if m and m.group(1) != m.group(2):
+        return "-"
+    raise ValueError(f"constraint on {name!r}: one of {' '.join(RANKABLE)}, "
+                     f"{' '.join(LINK_FIGURES)} or a ratio of two links such as R3/R2")
+
+
+def _constraint_values(name: str, mechs: Sequence[Mechanism],
+                       figs: dict[str, np.ndarray]) -> np.ndarray:
+    if name in figs:
+        return figs[name]
+    lengths = np.array([[float(getattr(m, f"R{j}")) for j in range(1, 5)] for m in mechs])
+    if name == "LONGEST":
+        return lengths.max(axis=1)
+    if name == "SHORTEST":
+        return lengths.min(axis=1)
+    m = RATIO.fullmatch(name)
+    assert m is not None  # constraint_unit checked it
+    return lengths[:, int(m.group(1)) - 1] / lengths[:, int(m.group(2)) - 1]
+
+
+def _checked_constraints(constraints: Mapping[str, Any] | None, units: str
+                         ) -> dict[str, tuple[float | None, float | None]]:
+    out: dict[str, tuple[float | None, float | None]] = {}
+    for name, bounds in (constraints or {}).items():
+        constraint_unit(name, units)
+        if not (isinstance(bounds, tuple | list) and len(bounds) == 2):
+            raise ValueError(f"constraint on {name}: (least, most), None for no bound")
+        lo, hi = (None if b is None else float(b) for b in bounds)
+        if lo is None and hi is None:
+            raise ValueError(f"constraint on {name}: give a least or a most value")
+        for b in (lo, hi):
+            if b is not None and not np.isfinite(b):
+                raise ValueError(f"constraint on {name}: bound {b!r} is not a finite number")
+        if lo is not None and hi is not None and lo > hi:
+            raise ValueError(f"constraint on {name}: least {lo:g} is above most {hi:g}")
+        out[name] = (lo, hi)
+    return out
+
+
+def _violations(constraints: dict[str, tuple[float | None, float | None]],
+                mechs: Sequence[Mechanism], figs: dict[str, np.ndarray],
+                units: str) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Which candidates meet every constraint, and for the others the first one broken."""
+    why = [""] * len(mechs)
+    for name, (lo, hi) in constraints.items():
+        v = _constraint_values(name, mechs, figs)
+        u = constraint_unit(name, units)
+        u = "" if u == "-" else f" {u}"
+        for i, x in enumerate(v):
+            if why[i]:
+                continue
+            if not np.isfinite(x):
+                why[i] = f"{name} undefined (the crank does not turn fully)"
+            elif lo is not None and x < lo:
+                why[i] = f"{name} = {x:.5g}{u} below the least {lo:g}{u}"
+            elif hi is not None and x > hi:
+                why[i] = f"{name} = {x:.5g}{u} above the most {hi:g}{u}"
+    return np.array([not w for w in why], dtype=bool), tuple(why)
+
+
+def _tie_groups(key: np.ndarray, tie: float) -> np.ndarray:
+    """Each value's group number in ascending order (module doc: near-ties); NaN -> 0."""
+    out = np.zeros(len(key))
+    ok = np.isfinite(key)
+    if not ok.any():
+        return out
+    v = key[ok]
+    o = np.argsort(v, kind="stable")
+    gap = tie * float(np.max(np.abs(v)))
+    groups = np.empty(len(v))
+    groups[o] = np.concatenate([[0.0], np.cumsum(np.diff(v[o]) > gap)])
+    out[ok] = groups
+    return out
 
 
 def _mechanism_of(c: Any) -> tuple[Mechanism, str | None]:
@@ -169,7 +287,8 @@ def rank(candidates: Sequence[Any], *, scene: Scene | None = None,
          by: Sequence[str] = ("TORQ_PEAK",), pareto: Sequence[str] | None = None,
          mass_model: dict | Callable[[Mechanism], Mechanism] | None = None,
          n: int = 360, cf: float = 0.05, backend: str = "auto", client: Any = None,
-         workers: int | None = None, size_of_block: int = BLOCK) -> Ranking:
+         workers: int | None = None, size_of_block: int = BLOCK,
+         constraints: Mapping[str, Any] | None = None, tie: float = TIE) -> Ranking:
     """Analyse every candidate under ``scene`` and rank them (module doc).
 
     Parameters
@@ -200,6 +319,12 @@ def rank(candidates: Sequence[Any], *, scene: Scene | None = None,
         dask's local threads (default one per core).
     size_of_block : int
         Candidates per block [-].
+    constraints : mapping, optional
+        ``{name: (least, most)}`` [the figure's unit; None: no bound] on figures of
+        :data:`RANKABLE` or :data:`LINK_FIGURES`, or a ratio ``"Ri/Rj"`` (module doc).
+    tie : float
+        [-] Values of a figure closer than ``tie`` times its largest magnitude are tied
+        (module doc), 0 <= tie < 0.1.
     """
     sc = Scene() if scene is None else scene
     if not isinstance(sc, Scene):
@@ -218,6 +343,8 @@ def rank(candidates: Sequence[Any], *, scene: Scene | None = None,
         raise ValueError(f"rank: pareto = {pareto!r}: two of {' '.join(RANKABLE)}")
     if not (isinstance(n, int) and n >= 8 and n % 2 == 0):
         raise ValueError(f"rank: n = {n!r}: an even whole number of angles, 8 or more")
+    if not (isinstance(tie, int | float) and 0.0 <= tie < 0.1):
+        raise ValueError(f"rank: tie = {tie!r}: a fraction from 0 to below 0.1")
     if backend not in ("auto", "process", "dask"):
         raise ValueError(f"rank: backend = {backend!r}: 'auto', 'process' or 'dask'")
     cands = tuple(candidates)
@@ -247,13 +374,25 @@ def rank(candidates: Sequence[Any], *, scene: Scene | None = None,
                         client, workers, size_of_block)
         for f in FIGURES:
             figs[f][idx] = got[f]
-    keys = [_key(f, figs[f]) for f in by]
+    limits = _checked_constraints(constraints, units)
+    feasible, why = _violations(limits, mechs, figs, units)
     bad = np.zeros(len(cands), dtype=bool)
-    for k in keys:
-        bad |= ~np.isfinite(k)
-    # np.lexsort sorts on the last key first: the given index, then by[-1] ... by[0], then bad
-    order = np.lexsort([np.arange(len(cands))]
-                       + [np.where(bad, 0.0, k) for k in reversed(keys)] + [bad])
-    front = pareto_front(_key(pareto[0], figs[pareto[0]]), _key(pareto[1], figs[pareto[1]]))
-    return Ranking(cands, tuple(mechs), tuple(branches), figs, by, order.astype(int), front,
-                   (pareto[0], pareto[1]), units)
+    for f in by:
+        bad |= ~np.isfinite(figs[f])
+    ranked = [_tie_groups(_key(f, figs[f]), tie) for f in by]
+    after = [_tie_groups(_key(f, figs[f]), tie) for f in RANKABLE if f not in by]
+    # np.lexsort sorts on the last key first: NaN last, then the infeasible, then the by
+    # figures' groups, then the other figures', then the order given
+    primary = [bad.astype(float), (~feasible).astype(float)] + ranked
+    order = np.lexsort([np.arange(len(cands))] + list(reversed(after))
+                       + list(reversed(primary))).astype(int)
+    ranks = np.empty(len(cands), dtype=int)
+    table = np.stack(primary, axis=1)
+    for pos, i in enumerate(order):
+        same = pos > 0 and np.array_equal(table[i], table[order[pos - 1]])
+        ranks[i] = ranks[order[pos - 1]] if same else pos + 1
+    ok = np.flatnonzero(feasible)
+    front = ok[pareto_front(_key(pareto[0], figs[pareto[0]])[ok],
+                            _key(pareto[1], figs[pareto[1]])[ok])]
+    return Ranking(cands, tuple(mechs), tuple(branches), figs, by, order, front.astype(int),
+                   (pareto[0], pareto[1]), units, feasible, why, ranks, limits)

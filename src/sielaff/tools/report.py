@@ -213,40 +213,80 @@ DRAWN = 8
 
 
 def _ranking_columns(r: Any) -> list[str]:
-    """The figures the ranking table shows: the ranking's, the Pareto front's and the least
-    transmission angle, each once (the page's width; the CSV of ``synth`` has all)."""
+    """The figures the ranking table shows: the ranking's, the Pareto front's, the
+    constrained ones and the least transmission angle, each once (the page's width; the
+    CSV of ``synth`` has all)."""
+    from sielaff.synthesis.rank import RANKABLE
+
     shown: list[str] = []
-    for f in [*r.by, *r.pareto_by, "GAMMA_MIN"]:
+    for f in [*r.by, *r.pareto_by, *(c for c in r.constraints if c in RANKABLE),
+              "GAMMA_MIN"]:
         if f not in shown:
             shown.append(f)
     return shown
 
 
 def _ranking_table(done: Any) -> str:
-    """The first :data:`RANK_ROWS` candidates, best first: rank, where each came from
-    (its index as solved and, with [synthesis.vary], its problem), its branch, its four
-    lengths and the figures, each header with its unit."""
+    """The first :data:`RANK_ROWS` candidates, best first: rank (shared by ties), where
+    each came from (its index as solved, the varied values, a crank-rocker's k and side:
+    ``done.trace``), its branch, its four lengths and the figures, each header with its
+    unit, the constraint it breaks."""
     from sielaff.design.sweep import column_units
+    from sielaff.tools.spec_tables import problem_unit
 
     r = done.ranking
     figs = _ranking_columns(r)
     lengths = ["R1", "R2", "R3", "R4"]
     units = column_units(lengths + figs, r.units)
     front = {int(i) for i in r.pareto}
-    vary = bool(done.task["vary"])
-    head = (["rank", "cand."] + (["problem"] if vary else []) + ["branch"]
-            + [f"{n} [{units[n]}]" for n in lengths + figs] + ["Pareto"])
+    traced = done.traced()
+
+    def head_of(t: str) -> str:
+        u = "" if t == "side" else problem_unit(done.task["problem"], t, r.units)
+        return t if u in ("", "-") else f"{t} [{u}]"
+
+    head = (["rank", "cand."] + [head_of(t) for t in traced] + ["branch"]
+            + [f"{n} [{units[n]}]" for n in lengths + figs] + ["Pareto"]
+            + (["breaks"] if r.constraints else []))
     out = ['<div class="wide"><table class="small"><tr>'
            + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
-    for k, i in enumerate(r.order[:RANK_ROWS], 1):
-        m = r.mechanisms[i]
-        cells = ([str(k), str(int(i))] + ([str(done.origin[i])] if vary else [])
+    for i in r.order[:RANK_ROWS]:
+        m, where = r.mechanisms[i], done.trace(int(i))
+        cells = ([str(r.ranks[i]), str(int(i))] + [_traced(where[t]) for t in traced]
                  + [r.branches[i]] + [f"{getattr(m, n):.5g}" for n in lengths]
                  + [f"{r.figures[f][i]:.5g}" for f in figs]
-                 + ["yes" if int(i) in front else ""])
+                 + ["yes" if int(i) in front else ""]
+                 + ([r.violations[i].split(" ")[0]] if r.constraints else []))
         out.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in cells) + "</tr>")
     out.append("</table></div>")
     return "\n".join(out)
+
+
+def _traced(v: Any) -> str:
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    if isinstance(v, list | tuple):
+        return ", ".join(_traced(x) for x in v)
+    return str(v)
+
+
+def _constraints_text(r: Any) -> str:
+    """The ranking's constraints in words, with units, and how many candidates meet them."""
+    from sielaff.synthesis.rank import constraint_unit
+
+    if not r.constraints:
+        return ""
+    said = []
+    for name, (lo, hi) in r.constraints.items():
+        u = constraint_unit(name, r.units)
+        u = "" if u == "-" else f" {u}"
+        said.append(" and ".join(b for b in (
+            f"{name} at least {lo:g}{u}" if lo is not None else "",
+            f"{name} at most {hi:g}{u}" if hi is not None else "") if b))
+    met = int(np.sum(r.feasible))
+    return (f"<p>Constraints: {html.escape('; '.join(said))}. {_count(met, 'candidate')} "
+            f"meet{'s' if met == 1 else ''} them; the others rank after, the first bound "
+            "each breaks in <em>breaks</em>, and are left off the Pareto front.</p>")
 
 
 def _kinds(done: Any) -> str:
@@ -308,8 +348,8 @@ def _candidates_figure(done: Any, at: float) -> bytes:
 
 
 def _pareto_figure(done: Any) -> bytes:
-    """Every candidate in the two Pareto figures, the front's points marked (not joined),
-    the first three by rank numbered."""
+    """Every candidate in the two Pareto figures (hollow: breaking a constraint), the
+    front's points marked (not joined), the first three by rank numbered."""
     from sielaff.design.figures import FIGURES
     from sielaff.quantities import unit
     from sielaff.synthesis.rank import MAXIMISED
@@ -321,14 +361,19 @@ def _pareto_figure(done: Any) -> bytes:
     x, y = np.asarray(r.figures[px]), np.asarray(r.figures[py])
     fig, ax = plt.subplots(figsize=(7, 4.6), dpi=90, layout="constrained")
     ok = np.isfinite(x) & np.isfinite(y)
-    ax.scatter(x[ok], y[ok], s=14, color="0.6", label=f"candidates ({int(ok.sum())} of "
-               f"{len(x)} turn fully)")
+    met = ok & np.asarray(r.feasible, dtype=bool)
+    ax.scatter(x[met], y[met], s=14, color="0.6", label=f"candidates ({int(ok.sum())} of "
+               f"{len(x)} turn fully)" if not r.constraints else
+               f"meeting the constraints ({int(met.sum())})")
+    if r.constraints and (ok & ~met).any():
+        ax.scatter(x[ok & ~met], y[ok & ~met], s=14, facecolors="none", edgecolors="0.6",
+                   label=f"breaking one ({int((ok & ~met).sum())})")
     p = np.asarray(r.pareto, dtype=int)
     # markers only: a line between front points would suggest designs between them
     ax.plot(x[p], y[p], "o", color="tab:red", ms=5, label=f"Pareto front ({len(p)})")
-    for k, i in enumerate(r.order[:3], 1):
+    for i in r.order[:3]:
         if ok[i]:
-            ax.annotate(f"#{k}", (x[i], y[i]), xytext=(5, 5), textcoords="offset points",
+            ax.annotate(f"#{r.ranks[i]}", (x[i], y[i]), xytext=(5, 5), textcoords="offset points",
                         fontsize=9)
 
     def label(f: str) -> str:
@@ -365,8 +410,9 @@ def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40
         + f", each at TH2D = {task['speed']:g} rad/sec over {task['angles']} crank angles. "
         + (f"The first {RANK_ROWS}; " if len(r) > RANK_ROWS else "")
         + "<code>sielaff synth</code> writes every one with all its fields"
-        + ("; <em>problem</em> numbers the combinations of [synthesis.vary]"
-           if task["vary"] else "") + ".</p>",
+        + ("; a rank is shared by candidates tied on every ranking figure (within "
+           f"{task['tie']:g} of its largest value)") + ".</p>",
+        _constraints_text(r),
         _ranking_table(done),
     ]
     for line in done.refused[:5]:

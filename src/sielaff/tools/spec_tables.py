@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from sielaff.tools.spec_fields import Key
 
-__all__ = ["MOTOR_KINDS", "PROBLEMS", "motor_keys", "synthesis_keys", "tolerance_keys"]
+__all__ = ["MOTOR_KINDS", "PROBLEMS", "PROBLEM_KINDS", "motor_keys", "problem_unit",
+           "synthesis_keys", "tolerance_keys"]
 
 #: A [motor] table's keys for each kind (besides kind and the run's keys).
 MOTOR_KINDS = {"constant": ("torque",), "linear": ("stall_torque", "no_load_speed"),
@@ -24,8 +25,24 @@ PROBLEMS = {
     "motion": ("poses", "moving", "fixed", "direction"),
     "path": ("points", "crank_angles", "starts", "seed"),
 }
+#: The kind of quantity (quantities.KINDS) of each problem's keys that have one unit; the
+#: others are "-" (ratios, counts, names); a pose is x, y and an angle.
+PROBLEM_KINDS = {
+    "crank_rocker": {"swing": "angle", "rocker": "length"},
+    "function": {"input_range": "angle", "output_range": "angle"},
+    "motion": {"poses": "length;length;angle", "moving": "length", "fixed": "length"},
+    "path": {"points": "length", "crank_angles": "angle"},
+}
 #: Problems a spec may make (the product of [synthesis.vary]).
 MAX_PROBLEMS = 1000
+
+
+def problem_unit(problem: str, key: str, units: str) -> str:
+    """The unit of a synthesis problem's key in ``units`` ("-" where it has none)."""
+    from sielaff.quantities import unit_of
+
+    kinds = PROBLEM_KINDS[problem].get(key, "number")
+    return ";".join(unit_of(k, units) for k in kinds.split(";"))
 
 
 def motor_keys() -> tuple:
@@ -99,6 +116,11 @@ def synthesis_keys() -> tuple:
         Key("area", "area", "", "> 0", "the links' cross-section (with density)"),
         Key("vary", "table", "", f"{MAX_PROBLEMS} problems in all",
             "[synthesis.vary]: a problem's key = [alternatives]"),
+        Key("constraints", "table", "", f"NAME = {{min = x, max = y}}, NAME one of {figures} "
+            "LONGEST SHORTEST or a link ratio such as \"R3/R2\", in its unit",
+            "[synthesis.constraints]: bounds a candidate must meet to rank first"),
+        Key("tie", "number", "1e-9", "0 to below 0.1", "values of a figure closer than this "
+            "times its largest magnitude are tied (the next figure decides)"),
         *(Key(name, "table", "", ", ".join(keys), f"[synthesis.{name}]: its parameters")
           for name, keys in PROBLEMS.items()),
     )

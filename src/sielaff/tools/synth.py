@@ -26,9 +26,20 @@ scene every candidate is analysed in (docs/synthesis.md, decks/synth.toml)::
 ``direction``; ``path`` ``points``, ``crank_angles``, ``starts``, ``seed``.  A problem
 that has no solution is skipped and counted; none at all is an error.
 
-Output: one CSV row per candidate, best first: ``RANK``, ``CANDIDATE`` (its index in
-the order solved), ``PROBLEM`` (which combination of [synthesis.vary]), ``BRANCH``,
-``PARETO`` (1 on the front), the 17 fields and the figures, each header naming its unit.
+Constraints and near-ties (:mod:`sielaff.synthesis.rank`)::
+
+    tie = 1e-9                        # figures this close (relative) are tied
+    [synthesis.constraints]           # bounds, in each figure's unit
+    GAMMA_MIN = {min = 40.0}          # a least transmission angle, deg
+    LONGEST = {max = 30.0}            # the longest link, in
+    "R3/R2" = {max = 4.0}             # a link ratio
+
+Output: one CSV row per candidate, best first: ``RANK`` (shared by candidates tied on
+every ranking figure), ``CANDIDATE`` (its index in the order solved), ``PROBLEM`` (which
+combination of [synthesis.vary]), the varied parameters' values and, for a crank-rocker,
+its ``K`` and ``SIDE`` (:meth:`Synthesis.trace`), ``BRANCH``, ``PARETO`` (1 on the front),
+``FEASIBLE`` (1: meets every constraint) and ``VIOLATES`` (the first it breaks), the 17
+fields and the figures, each header naming its unit.
 ``--write-best DIR`` writes the ``best`` first ones as ``DIR/best-K.toml`` (a spec with
 the input's [scene], the candidate's branch and a [[range]] of 0 to 350 deg by 10), and
 ``DIR/best-K.dat`` (a deck) where a deck can hold it; both carry each field rounded to
@@ -50,7 +61,7 @@ from typing import Any
 
 import numpy as np  # module level: the ulp-nudge harness reaches the functions f names
 
-from sielaff.tools.spec_tables import MAX_PROBLEMS, PROBLEMS, synthesis_keys
+from sielaff.tools.spec_tables import MAX_PROBLEMS, PROBLEMS, problem_unit, synthesis_keys
 
 #: The functions ``[synthesis.function] f`` may name.
 FUNCTIONS = ("log10", "log", "exp", "sqrt", "square", "cube", "reciprocal", "sin", "cos",
@@ -75,7 +86,7 @@ def _function(name: Any):
     return table[name]
 
 
-def read_synthesis(spec: dict, path: str) -> dict:
+def read_synthesis(spec: dict, path: str, units: str = "in-lb-sec") -> dict:
     """The ``[synthesis]`` table checked: problem, params (list of dicts), ranking."""
     from sielaff.design.sweep import MAX_ANGLES
     from sielaff.synthesis.rank import RANKABLE
@@ -141,6 +152,42 @@ def read_synthesis(spec: dict, path: str) -> dict:
                 raise PunchError(f"{where} {key} = {v!r}: a positive number")
             model[key] = float(v)
     out["mass_model"] = model or None
+    tie = table.get("tie", 1e-9)
+    if isinstance(tie, bool) or not isinstance(tie, int | float | Decimal) \
+            or not 0.0 <= float(tie) < 0.1:
+        raise PunchError(f"{where} tie = {tie!r}: a fraction from 0 to below 0.1")
+    out["tie"] = float(tie)
+    out["constraints"] = _constraints(table.get("constraints", {}), where, units)
+    return out
+
+
+def _constraints(table: Any, where: str, units: str) -> dict:
+    """``[synthesis.constraints]``: ``NAME = {min = x, max = y}`` -> {NAME: (x, y)}."""
+    from sielaff.synthesis.rank import constraint_unit
+    from sielaff.tools.spec import PunchError
+
+    if not isinstance(table, dict):
+        raise PunchError(f"{where}.constraints: expected a table")
+    out = {}
+    for name, bounds in table.items():
+        at = f"{where}.constraints {name}"
+        try:
+            constraint_unit(name, units)
+        except ValueError as exc:
+            raise PunchError(f"{at}: {exc}") from None
+        if not isinstance(bounds, dict) or not bounds or set(bounds) - {"min", "max"}:
+            raise PunchError(f"{at} = {bounds!r}: an inline table {{min = x, max = y}} "
+                             "(either or both)")
+        got = []
+        for side in ("min", "max"):
+            v = bounds.get(side)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, int | Decimal)
+                                  or not math.isfinite(float(v))):
+                raise PunchError(f"{at} {side} = {v!r}: a finite number")
+            got.append(None if v is None else float(v))
+        if got[0] is not None and got[1] is not None and got[0] > got[1]:
+            raise PunchError(f"{at}: min {got[0]:g} is above max {got[1]:g}")
+        out[name] = (got[0], got[1])
     return out
 
 
@@ -174,6 +221,14 @@ def _cell(v: float) -> str:
     return repr(float(v))
 
 
+def _trace_cell(v: Any) -> str:
+    """A traced value in a CSV cell: numbers as Python writes them, lists joined by ';'."""
+    if isinstance(v, list | tuple):
+        return ";".join(_trace_cell(x) for x in v)
+    return repr(float(v)) if isinstance(v, int | float) and not isinstance(v, bool) \
+        else str(v).replace(",", ";")
+
+
 @dataclass(frozen=True)
 class Synthesis:
     """A ``[synthesis]`` spec solved and ranked: the parsed spec and its task
@@ -189,6 +244,21 @@ class Synthesis:
     refused: list[str]
     ranking: Any
 
+    def traced(self) -> list[str]:
+        """The names :meth:`trace` gives, in order: the varied parameters, then a crank-rocker
+        family's free choice ``k`` and ``side``."""
+        return list(self.task["vary"]) + (["k", "side"] if self.task["problem"] ==
+                                          "crank_rocker" else [])
+
+    def trace(self, i: int) -> dict[str, Any]:
+        """Where candidate ``i`` came from: the values of [synthesis.vary] of its problem,
+        and a crank-rocker's k [-] and side (:mod:`sielaff.synthesis.crank_rocker`)."""
+        problem = self.task["problems"][self.origin[i]]
+        out = {key: problem[key] for key in self.task["vary"]}
+        if self.task["problem"] == "crank_rocker":
+            out |= {"k": self.candidates[i].k, "side": self.candidates[i].side}
+        return out
+
 
 def synthesize(path: str) -> Synthesis:
     """Read the spec at ``path``, solve every problem of its ``[synthesis]`` and rank the
@@ -198,7 +268,8 @@ def synthesize(path: str) -> Synthesis:
     from sielaff.tools.common import CommandError, read_spec_with
 
     _, scene, (spec, task) = read_spec_with(
-        path, lambda spec, where: (spec, read_synthesis(spec, where)), deck=False)
+        path, lambda spec, where: (spec, read_synthesis(
+            spec, where, spec.get("scene", {}).get("units", "in-lb-sec"))), deck=False)
     units = spec.get("scene", {}).get("units", "in-lb-sec")  # checked by scene_of
     cands, origin, refused = [], [], []
     for i, params in enumerate(task["problems"]):
@@ -218,7 +289,8 @@ def synthesize(path: str) -> Synthesis:
                            f"(the first: {refused[0]})")
     try:
         r = synthesis.rank(cands, scene=scene, by=task["by"], pareto=task["pareto"],
-                           mass_model=task["mass_model"], n=task["angles"], cf=task["cf"])
+                           mass_model=task["mass_model"], n=task["angles"], cf=task["cf"],
+                           constraints=task["constraints"], tie=task["tie"])
     except ValueError as exc:
         raise CommandError(f"{path}: {exc}") from None
     return Synthesis(spec, task, units, scene, cands, origin, refused, r)
@@ -256,14 +328,21 @@ def cmd_synth(args) -> int:
     cands, origin, refused, r = done.candidates, done.origin, done.refused, done.ranking
     front = set(int(i) for i in r.pareto)
     figs = [f for f in FIGURES if f != "KIND"]
-    header = (["RANK", "CANDIDATE", "PROBLEM", "BRANCH", "PARETO"]
+    traced = done.traced()
+    header = (["RANK", "CANDIDATE", "PROBLEM"]
+              + [t.upper() if t == "side" else
+                 f"{t.upper()}[{problem_unit(task['problem'], t, units)}]" for t in traced]
+              + ["BRANCH", "PARETO", "FEASIBLE", "VIOLATES"]
               + [f"{n}[{unit(n, units)}]" for n in FIELD_NAMES]
               + [f"{f}[{unit(FIGURES[f][0], units)}]" for f in figs] + ["KIND"])
     lines = [",".join(header)]
-    for rank_, i in enumerate(r.order, 1):
-        m = r.mechanisms[i]
+    for i in r.order:
+        m, where = r.mechanisms[i], done.trace(int(i))
         lines.append(",".join(
-            [str(rank_), str(int(i)), str(origin[i]), r.branches[i], str(int(i in front))]
+            [str(r.ranks[i]), str(int(i)), str(origin[i])]
+            + [_trace_cell(where[t]) for t in traced]
+            + [r.branches[i], str(int(i in front)), str(int(r.feasible[i])),
+               r.violations[i].replace(",", ";")]
             + [_cell(getattr(m, n)) for n in FIELD_NAMES]
             + [_cell(r.figures[f][i]) for f in figs] + [KINDS[int(r.figures["KIND"][i])]]))
     csv_text = "\n".join(lines) + "\n"
@@ -306,9 +385,11 @@ def cmd_synth(args) -> int:
         notes.append(f"  removed {len(stale)} older file{'s' if len(stale) > 1 else ''} of "
                      f"{args.write_best} ({', '.join(os.path.basename(p) for p in stale)})")
     ok = int(np.isfinite(r.figures[task["by"][0]]).sum())
+    limits = (f", {int(r.feasible.sum())} meeting the {len(r.constraints)} constraint"
+              f"{'s' if len(r.constraints) > 1 else ''}") if r.constraints else ""
     msg = (f"sielaff synth: {len(cands)} candidates from {len(task['problems'])} "
            f"{task['problem']} problem(s) ({len(refused)} without a solution), "
-           f"{ok} with a full cycle, ranked by {', '.join(task['by'])}; Pareto front of "
+           f"{ok} with a full cycle{limits}, ranked by {', '.join(task['by'])}; Pareto front of "
            f"{' and '.join(r.pareto_by)}: {len(r.pareto)}"
            + (f" -> {args.output}" if args.output else ""))
     if written:

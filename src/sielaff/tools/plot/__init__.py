@@ -43,6 +43,7 @@ import io
 import math
 import os
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -373,6 +374,44 @@ def _mark_groups(d: PlotData) -> list[tuple[str, float, float]]:
     return [("/".join(f"{v:g}" for v in g[0]), math.radians(g[1]), g[2]) for g in groups]
 
 
+#: Marks closer than this on the page [px] share one label (near the pole several
+#: crank angles land on one spot; separate labels there cannot all sit by their marks).
+_CROWDED_PX = 9.0
+
+
+def _merge_crowded(groups: list[tuple[str, float, float]], scale: float
+                   ) -> list[tuple[str, float, float]]:
+    """``groups`` with marks closer than :data:`_CROWDED_PX` on the page merged: one label
+    "180/270" at the first of them (the order of the marks: THETA 2 ascending)."""
+    out: list[list] = []
+    for text, t, r in groups:
+        x, y = r * math.cos(t) * scale, r * math.sin(t) * scale
+        for g in out:
+            if math.hypot(g[3] - x, g[4] - y) < _CROWDED_PX:
+                g[0].append(text)
+                break
+        else:
+            out.append([[text], t, r, x, y])
+    return [("/".join(g[0]), g[1], g[2]) for g in out]
+
+
+def _ring_every(plt, fig, ticks: np.ndarray, scale: float, angle_deg: float, unit: str
+                ) -> int:
+    """Label every n-th ring so that the labels, laid along the ring-label direction, do
+    not run into each other (their extent along it against the rings' spacing)."""
+    from matplotlib.font_manager import FontProperties
+
+    if len(ticks) < 2:
+        return 1
+    renderer = fig.canvas.get_renderer()
+    w, h, _ = renderer.get_text_width_height_descent(f"{ticks[-1]:g} {unit}",
+                                                    FontProperties(size=8), ismath=False)
+    a = math.radians(angle_deg)
+    extent = w * abs(math.cos(a)) + h * abs(math.sin(a)) + 4.0
+    spacing = float(ticks[1] - ticks[0]) * scale
+    return max(1, math.ceil(extent / spacing)) if spacing > 0 else 1
+
+
 def _place_labels(marks, curve_xy: np.ndarray, obstacles=(),
                   sizes=None) -> list[tuple[float, float, bool]]:
     """Pixel offsets (dx, dy, leader?) for labels of ``marks`` [(text, x px, y px)].
@@ -393,7 +432,7 @@ def _place_labels(marks, curve_xy: np.ndarray, obstacles=(),
             w = 0.62 * h * len(text) + 4.0
         outward = math.atan2(y, x) if math.hypot(x, y) > 1 else math.pi / 4
         best = None
-        for dist in (7.0, 14.0, 24.0, 36.0, 52.0, 72.0):
+        for dist in (7.0, 14.0, 24.0, 36.0, 52.0, 72.0, 96.0):
             for k in range(16):
                 phi = outward + k * math.pi / 8
                 ext = 0.5 * w * abs(math.cos(phi)) + 0.5 * h * abs(math.sin(phi))
@@ -449,12 +488,12 @@ def _draw_polar(plt, d: PlotData):
         ys = np.concatenate([ys, w * np.sin(arc)])
         ax.plot(np.arctan2(ys, xs), np.hypot(xs, ys), ls=":", color="0.25", lw=1.4, zorder=2,
                 label="link 4 (B at the centre, O4 at 180\u00b0)")
-    groups = _mark_groups(d)
-    ax.plot([t for _, t, _ in groups], [r for _, _, r in groups], "o", ms=4.5,
-            color="tab:red", zorder=4, label="THETA 2 (deg) at the marks")
     # Label placement in pixels: the axes is a circle of known radius.
     radius_px = 0.5 * _POLAR_AXES[2] * _POLAR_SIZE[0] * _POLAR_DPI
     scale = radius_px / rlim
+    groups = _merge_crowded(_mark_groups(d), scale)
+    ax.plot([t for _, t, _ in groups], [r for _, _, r in groups], "o", ms=4.5,
+            color="tab:red", zorder=4, label="THETA 2 (deg) at the marks")
     ok = np.isfinite(th) & np.isfinite(d.r)
     curve = np.column_stack((d.r[ok] * np.cos(th[ok]), d.r[ok] * np.sin(th[ok]))) * scale
     marks = [(text, r * math.cos(t) * scale, r * math.sin(t) * scale) for text, t, r in groups]
@@ -465,9 +504,18 @@ def _draw_polar(plt, d: PlotData):
     else:
         ring_angle = _rlabel_angle(th, d.r)
     ax.set_rlabel_position(ring_angle)
-    # no ring label in the outer tenth: it would reach the title or the angle labels
-    ax.yaxis.set_major_formatter(plt.FuncFormatter(
-        lambda v, _: f"{v:g} {d.r_unit}" if v <= 0.9 * rlim else ""))
+    ticks = np.array([v for v in ax.get_yticks() if 0.0 <= v <= 0.9 * rlim])
+    every = _ring_every(plt, fig, ticks, scale, ring_angle, d.r_unit)
+    step = float(ticks[1] - ticks[0]) if len(ticks) > 1 else 1.0
+
+    def ring_label(v: float, _: Any) -> str:
+        # none in the outer tenth (it would reach the title or the angle labels); every
+        # n-th where the labels would run into each other
+        if v > 0.9 * rlim or round(v / step) % every:
+            return ""
+        return f"{v:g} {d.r_unit}"
+
+    ax.yaxis.set_major_formatter(plt.FuncFormatter(ring_label))
     ax.tick_params(axis="y", labelsize=8, colors="0.3")
     ax.set_xticks(np.radians(np.arange(0, 360, 45)))
     ax.grid(True, color="0.82", lw=0.6)

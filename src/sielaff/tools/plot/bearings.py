@@ -47,7 +47,9 @@ def bearings_figure(deck: Deck, scene: Scene, threshold: float | None = None):
                        edgecolor="none")
             ax.set_ylim(0, top)
             ax.set_yticks([pin.peak / 2, pin.peak])
-            ax.set_yticklabels([f"{pin.peak / 2:.0f}", f"{pin.peak:.0f} {force}"], fontsize=7)
+            # each ring with its unit (three digits: a small load does not print as 0)
+            ax.set_yticklabels([f"{pin.peak / 2:.3g} {force}", f"{pin.peak:.3g} {force}"],
+                               fontsize=7)
             ax.set_xticks(np.radians([0, 90, 180, 270]))
             ax.set_xticklabels(["0", "90", "180", "270"], fontsize=7)
             ax.set_title(f"pin {pin.name}: load on the {member.name}", fontsize=9, pad=12)
