@@ -10,6 +10,9 @@ The public API, in one place (everything else is reached through its module):
   ``Load``, ``PinFriction``, ``Spring``, ``Damper``, ``AssemblyWarning``,
   ``FrictionWarning``: the modern numpy engine (``sielaff.engine``), with the
   effects a scene calls for (docs/effects.md).
+* ``SliderCrank``, ``SLIDER_EXAMPLE``, ``SliderCrankScene``: the slider-crank
+  (``sielaff.slider_crank``; docs/mechanisms.md), analysed by the same ``analyze`` with
+  its own Scene (gravity, loads, the slider force ``fex``, springs and dampers).
 * ``linkage_class(mechanism)``: which four-bar it is (crank-rocker, double-crank, ...),
   its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
 * ``reachable(mechanism, n)``, ``point_motion(mechanism, ath2, link, r, angle)``: crank
@@ -30,7 +33,8 @@ from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
 __all__ = ["EXAMPLE", "AssemblyWarning", "Damper", "Deck", "DeckError", "FrictionWarning",
-           "Load", "Mechanism", "Motor", "PinFriction", "Results", "Scene", "Spring",
+           "Load", "Mechanism", "Motor", "PinFriction", "Results", "SLIDER_EXAMPLE", "Scene",
+           "SliderCrank", "SliderCrankScene", "Spring",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
            "load_spec", "point_motion", "reachable", "read_deck", "simulate"]
 
@@ -62,10 +66,14 @@ def __getattr__(name: str):
     # The engine pulls in numpy; the emulator's command line does not need it.
     if name in ("analyze", "Results", "AssemblyWarning", "Load", "Scene", "linkage_class",
                 "reachable", "point_motion", "PinFriction", "Spring", "Damper",
-                "FrictionWarning"):
+                "FrictionWarning", "SliderCrankScene"):
         from sielaff import engine
 
         return getattr(engine, name)
+    if name in ("SliderCrank", "SLIDER_EXAMPLE"):
+        from sielaff import slider_crank
+
+        return getattr(slider_crank, name)
     if name in ("flywheel", "balance", "bearings"):
         from sielaff import design
 

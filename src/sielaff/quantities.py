@@ -12,7 +12,11 @@ in pounds, time in seconds, angles printed in degrees, rates in radians.
 
 from __future__ import annotations
 
-from sielaff.mechanism import UNITS as MECHANISM_UNITS
+from sielaff.mechanism import UNITS as FOURBAR_UNITS
+from sielaff.slider_crank import UNITS as SLIDER_UNITS
+
+#: Every mechanism field's unit (the four-bar's and the slider-crank's share their names).
+MECHANISM_UNITS = {**FOURBAR_UNITS, **SLIDER_UNITS}
 
 __all__ = ["CONVENTIONS", "G", "KINDS", "declare", "describe", "fmt", "unit", "unit_of"]
 

@@ -128,8 +128,13 @@ from sielaff.engine.outputs import RESULTS, VECTORS
 from sielaff.engine.points import point_motion
 from sielaff.engine.positions import reachable
 from sielaff.engine.registry import Effect, Model, step
-from sielaff.engine.scene import Scene
+from sielaff.engine.scene import Scene, scene_of
+from sielaff.engine.slider_crank import SLIDER_CRANK
 from sielaff.quantities import G
+
+#: The slider-crank's Scene (its model's fields: branch, th2dd, gravity, loads, fex,
+#: elements).
+SliderCrankScene = scene_of(SLIDER_CRANK)
 
 #: How many times each step of the default model has run (by step name); tests reset it.
 STEP_CALLS = FOURBAR.calls
@@ -138,6 +143,8 @@ STEPS = FOURBAR.steps
 
 __all__ = [
     "FOURBAR",
+    "SLIDER_CRANK",
+    "SliderCrankScene",
     "model_for",
     "Effect",
     "Model",

@@ -14,6 +14,7 @@ import numpy as np
 from sielaff.engine.fourbar import FOURBAR
 from sielaff.engine.registry import Model
 from sielaff.engine.scene import Scene, SceneBase, scene_from
+from sielaff.engine.slider_crank import SLIDER_CRANK
 from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
 __all__ = ["MODELS", "AssemblyWarning", "Results", "analyze", "model_for", "plan", "prepare"]
@@ -137,7 +138,7 @@ class Request:
 
 
 #: The models ``analyze`` knows, each for its type of mechanism (the first that fits).
-MODELS: list[Model] = [FOURBAR]
+MODELS: list[Model] = [FOURBAR, SLIDER_CRANK]
 
 
 def model_for(mechanism: Any) -> Model:
@@ -147,14 +148,15 @@ def model_for(mechanism: Any) -> Model:
         if model.mechanism is not None and isinstance(mechanism, model.mechanism):
             return model
     raise ValueError(f"no model analyses a {type(mechanism).__name__}: give a sielaff "
-                     "Mechanism (or model=)")
+                     "Mechanism or SliderCrank (or model=)")
 
 
 def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None,
             scene: Scene, model: Model | None = None, *, broadcast: bool = True) -> Request:
     """The one validation of ``analyze``'s inputs, shared by every backend.
 
-    The mechanism by :func:`~sielaff.mechanism.validate`, the outputs against the model,
+    The mechanism by its model's ``validate`` (:func:`~sielaff.mechanism.validate` for
+    the four-bar), the outputs against the model,
     the Scene (validated when it was built), and, with ``broadcast``, that the crank
     angles, the fields and the scene's arrays broadcast together (a ValueError naming
     the two that clash).
@@ -168,8 +170,11 @@ def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     if missing:  # another model's scene
         raise ValueError(f"scene has no field {missing[0]}, which model {model.name} "
                          "takes: make it with engine.scene.scene_type(model)")
+    if model.mechanism is not None and not isinstance(mechanism, model.mechanism):
+        raise ValueError(f"model {model.name} analyses a {model.mechanism.__name__}, not a "
+                         f"{type(mechanism).__name__}")
     wanted = _check_outputs(outputs, model)
-    validate(mechanism)
+    (model.validate or validate)(mechanism)
     req = Request(model, mechanism, ath2, scene, wanted)
     if broadcast:
         named = [("ath2", np.shape(ath2))]
@@ -179,8 +184,13 @@ def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     return req
 
 
-def _scene(scene: Scene | None, **keywords: Any) -> Scene:
-    return scene_from(scene, {k: v for k, v in keywords.items() if v is not _UNSET})
+def _scene(scene: Scene | None, mechanism: Any, model: Model | None,
+           **keywords: Any) -> Scene:
+    """The call's Scene: ``scene``, or the keywords in the model's own Scene type."""
+    if model is None:
+        model = model_for(EXAMPLE if mechanism is None else mechanism)
+    return scene_from(scene, {k: v for k, v in keywords.items() if v is not _UNSET},
+                      model=model)
 
 
 def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None = None,
@@ -188,7 +198,8 @@ def plan(outputs: Iterable[str] | str | None = None, mechanism: Mechanism | None
          gravity: Any = _UNSET, loads: Any = _UNSET, branch: Any = _UNSET,
          model: Model | None = None) -> list[str]:
     """Names of the steps ``analyze`` would run (skipped zero steps marked ``name=0``)."""
-    sc = _scene(scene, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads, branch=branch)
+    sc = _scene(scene, mechanism, model, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads,
+                branch=branch)
     req = prepare(EXAMPLE if mechanism is None else mechanism, 0.0, outputs, sc, model,
                   broadcast=False)
     ns = req.model.seed(req.mechanism, 0.0, sc)
@@ -244,7 +255,8 @@ def analyze(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None
     mechanism no linkage can have (:func:`sielaff.mechanism.validate`) or a scene value
     that is not finite (:class:`sielaff.Scene`).
     """
-    sc = _scene(scene, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads, branch=branch)
+    sc = _scene(scene, mechanism, model, tex=tex, th2dd=th2dd, gravity=gravity, loads=loads,
+                branch=branch)
     if backend not in ("numpy", "numba"):
         raise ValueError(f"backend = {backend!r}: 'numpy' or 'numba'")
     if out is not None:

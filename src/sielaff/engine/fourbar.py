@@ -26,7 +26,7 @@ from sielaff.engine.links import FRAME, FRAME_RATE, Link, LinkRate
 from sielaff.engine.outputs import RESULTS, VECTOR_STEPS
 from sielaff.engine.registry import Model, step, step_of
 from sielaff.engine.statics import pins
-from sielaff.mechanism import FIELD_NAMES, MASS_DIVISOR, Mechanism
+from sielaff.mechanism import FIELD_NAMES, MASS_DIVISOR, Mechanism, validate
 
 __all__ = ["BRANCHES", "FOURBAR", "INPUTS", "KINEMATIC_OUTPUTS", "OUTPUTS", "SLOTS"]
 
@@ -90,7 +90,7 @@ FOURBAR = Model("four-bar", seed=_seed, results=RESULTS,
                 breakdown=("TORQ_INERTIA", "TORQ"), counts="s34",
                 params=(Param("branch", "open", _branch,
                               '{"open", "crossed"}\n    Which assembly of the loop.'),),
-                statics=(_statics, _GEOMETRY), mechanism=Mechanism)
+                statics=(_statics, _GEOMETRY), mechanism=Mechanism, validate=validate)
 FOURBAR.add(positions, velocities, accelerations, inertia, forces, VECTOR_STEPS,
             step_of(_links), step_of(_link_rates))
 FOURBAR.add_effect("gravity")

@@ -59,9 +59,11 @@ def _rotating_direction(r, line, w, adel=0.0):
     return d
 
 
-def _vector_steps() -> tuple[Step, ...]:
+def vector_steps(vectors: tuple[str, ...]) -> tuple[Step, ...]:
+    """The magnitude and direction steps of ``vectors`` (a model's own list; those of
+    :data:`ROTATING` by their pivot's rate, the others from their components)."""
     steps = []
-    for name in VECTORS:
+    for name in vectors:
         xy = (name + "X", name + "Y")
         if name in ROTATING:
             r, line, adel, w = ROTATING[name]
@@ -75,7 +77,7 @@ def _vector_steps() -> tuple[Step, ...]:
 
 
 #: Each vector's magnitude NAME and direction DNAME.
-VECTOR_STEPS = _vector_steps()
+VECTOR_STEPS = vector_steps(VECTORS)
 
 
 #: What ``analyze`` returns by default (``outputs=None``), in the listing's print

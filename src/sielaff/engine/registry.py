@@ -197,7 +197,8 @@ class Model:
     ``counts``: the name whose NaN marks a position that cannot assemble; ``params``: its
     own Scene fields; ``statics``: ``(fn, geometry)``, how loads on its links become its
     sums (:mod:`sielaff.engine.links`); ``mechanism``: the type of mechanism it analyses
-    (``analysis.model_for`` finds a mechanism's model by it).
+    (``analysis.model_for`` finds a mechanism's model by it); ``validate(mechanism)``: the
+    one check of such a mechanism's fields (a ValueError in one line naming the field).
     """
 
     def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
@@ -205,9 +206,11 @@ class Model:
                  breakdown: tuple[str, str] | None = None, counts: str | None = None,
                  params: tuple[Param, ...] = (),
                  statics: tuple[Callable[..., Any], tuple[str, ...]] | None = None,
-                 torque_slot: str = "torq", mechanism: type | None = None) -> None:
+                 torque_slot: str = "torq", mechanism: type | None = None,
+                 validate: Callable[[Any], None] | None = None) -> None:
         self.name = name
         self.mechanism = mechanism
+        self.validate = validate
         self.own_params = params
         self.statics = statics
         self.torque_slot = torque_slot
@@ -310,7 +313,7 @@ class Model:
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
                     breakdown=self.breakdown, counts=self.counts, params=self.own_params,
                     statics=self.statics, torque_slot=self.torque_slot,
-                    mechanism=self.mechanism)
+                    mechanism=self.mechanism, validate=self.validate)
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]

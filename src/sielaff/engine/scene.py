@@ -26,7 +26,7 @@ from sielaff.engine.fourbar import BRANCHES, FOURBAR
 from sielaff.engine.registry import Model
 from sielaff.engine.values import LIMIT
 
-__all__ = ["BRANCHES", "LIMIT", "Scene", "SceneBase", "scene_type"]
+__all__ = ["BRANCHES", "LIMIT", "Scene", "SceneBase", "scene_of", "scene_type"]
 
 
 class SceneBase:
@@ -111,10 +111,23 @@ else:
 KEYWORDS = ("tex", "th2dd", "gravity", "loads", "branch")
 
 
+_SCENES: dict[int, type[SceneBase]] = {}
+
+
+def scene_of(model: Model) -> type[SceneBase]:
+    """The Scene type of ``model`` (made once): ``Scene`` for the four-bar."""
+    if model is FOURBAR:
+        return Scene  # type: ignore[no-any-return]
+    if id(model) not in _SCENES:
+        _SCENES[id(model)] = scene_type(model)
+    return _SCENES[id(model)]
+
+
 def scene_from(scene: Scene | None, given: dict[str, Any],
-               where: str = "analyze") -> Scene:
-    """The Scene of a call: ``scene``, or one built from the keywords ``given``; both at
-    once is a ValueError naming them."""
+               where: str = "analyze", model: Model | None = None) -> Scene:
+    """The Scene of a call: ``scene``, or one built from the keywords ``given`` (in
+    ``model``'s Scene type, the four-bar's by default); both at once is a ValueError
+    naming them, and so is a keyword the model's Scene has no field for."""
     if scene is not None:
         if not isinstance(scene, SceneBase):
             raise ValueError(f"{where}: scene = {scene!r} is not a sielaff.Scene")
@@ -122,4 +135,11 @@ def scene_from(scene: Scene | None, given: dict[str, Any],
             raise ValueError(f"{where}: give scene= or {', '.join(sorted(given))}, not both "
                              "(put them in the Scene)")
         return scene
-    return Scene(**given)
+    cls = Scene if model is None else scene_of(model)
+    names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
+    stray = sorted(set(given) - names)
+    if stray:
+        raise ValueError(f"{where}: {', '.join(stray)} is not part of a "
+                         f"{model.name if model else 'four-bar'}'s scene (its fields: "
+                         f"{', '.join(sorted(names))})")
+    return cls(**given)  # type: ignore[no-any-return]
