@@ -130,3 +130,40 @@ def kinetic_energy_rate(m, th2_deg: float, th2dd: float = 0.0, branch: str = "op
     rate += m4 * k["XB"][1] * k["XB"][2]
     rate += m.ZI2 * k["th2"][1] * k["th2"][2] + m.ZI3 * k["th3"][1] * k["th3"][2]
     return rate
+
+
+@functools.lru_cache(maxsize=4)
+def _reduced(fields: tuple, spring: tuple | None):
+    """Lambdified J(th), J'(th) and the applied forces' generalized force Q(th) about the
+    crank angle th [rad], from the closed form (no time: positions as functions of th)."""
+    R2, R3, e, W2, W3, W4, ZI2, ZI3, RG2, ADEL2, RG3, ADEL3, fex, gx, gy = fields
+    th = sp.Symbol("th")
+    d = e - R2 * sp.sin(th)
+    root = sp.sqrt(R3 ** 2 - d ** 2)
+    th3 = sp.atan2(d, root)
+    ax, ay = R2 * sp.cos(th), R2 * sp.sin(th)
+    xb = ax + root
+    g2 = (RG2 * sp.cos(th + ADEL2), RG2 * sp.sin(th + ADEL2))
+    g3 = (ax + RG3 * sp.cos(th3 + ADEL3), ay + RG3 * sp.sin(th3 + ADEL3))
+    m2, m3, m4 = W2 / G, W3 / G, W4 / G
+    J = (m2 * (sp.diff(g2[0], th) ** 2 + sp.diff(g2[1], th) ** 2) + ZI2
+         + m3 * (sp.diff(g3[0], th) ** 2 + sp.diff(g3[1], th) ** 2)
+         + ZI3 * sp.diff(th3, th) ** 2 + m4 * sp.diff(xb, th) ** 2)
+    V = -(m2 * (gx * g2[0] + gy * g2[1]) + m3 * (gx * g3[0] + gy * g3[1])
+          + m4 * (gx * xb + gy * e)) - fex * xb  # the potential of weights and FEX
+    if spring is not None:
+        px, py, k, l0 = spring
+        V += k * (sp.sqrt((xb - px) ** 2 + (e - py) ** 2) - l0) ** 2 / 2
+    Q = -sp.diff(V, th)
+    return tuple(sp.lambdify(th, f, "mpmath") for f in (J, sp.diff(J, th), Q))
+
+
+def reduced(m, *, gravity=(0.0, 0.0), fex=0.0, spring=None):
+    """(J, dJ/dth, Q) as float functions of the crank angle [rad]: the equation of motion
+    (J + F) th'' + J' th'^2 / 2 = M(th') + Q(th)."""
+    fields = (m.R2, m.R3, m.offset, m.W2, m.W3, m.W4, m.ZI2, m.ZI3, m.RG2,
+              math.radians(m.ADEL2), m.RG3, math.radians(m.ADEL3), fex, *gravity)
+    fs = _reduced(tuple(float(x) for x in fields), None if spring is None else tuple(spring))
+    def as_float(f):
+        return lambda th: float(f(th))
+    return tuple(as_float(f) for f in fs)

@@ -52,10 +52,9 @@ from typing import Any
 import numpy as np
 
 from sielaff.dynamics.friction import FrictionError, FrictionTables
-from sielaff.engine.analysis import analyze
-from sielaff.engine.classify import linkage_class
-from sielaff.engine.scene import Scene
-from sielaff.mechanism import Mechanism, validate
+from sielaff.engine.analysis import analyze, model_for
+from sielaff.engine.scene import Scene, SceneBase, scene_of
+from sielaff.mechanism import Mechanism
 from sielaff.quantities import unit, unit_of
 
 __all__ = ["Simulation", "simulate"]
@@ -175,8 +174,8 @@ def _torq(mechanism: Mechanism, scene: Scene, ath2: Any, w: Any, a: Any) -> np.n
 
 def _nonlinear(scene: Scene) -> bool:
     """Whether the scene has an effect that is not affine in the crank's acceleration:
-    pin friction, when it is on (the friction effect's own rule)."""
-    return scene.has_friction
+    one that corrects the totals (pin friction), when it is on (its own rule)."""
+    return any(e.corrects for e in scene.effects)
 
 
 class _Tables:
@@ -305,18 +304,24 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
         from scipy.optimize import brentq
     except ImportError:
         raise SimulationError('simulate needs scipy: pip install -e ".[dynamics]"') from None
-    sc = Scene() if scene is None else scene
-    if not isinstance(sc, Scene):
-        raise SimulationError(f"scene = {scene!r} is not a sielaff.Scene")
+    try:
+        model = model_for(mechanism)
+    except ValueError:
+        raise SimulationError(f"mechanism = {mechanism!r}: a sielaff.Mechanism or "
+                              "SliderCrank") from None
+    sc = scene_of(model)() if scene is None else scene
+    if not isinstance(sc, SceneBase) or sc._model is not model:
+        raise SimulationError(f"scene = {scene!r} is not a {model.name}'s Scene")
     if callable(sc.th2dd) or np.any(np.asarray(sc.th2dd) != 0.0):
         raise SimulationError("simulate: the scene's th2dd must be 0 (the crank's "
                               "acceleration is what simulate finds)")
     if sc.per_position():
         raise SimulationError("simulate: the scene's values must be constants or "
                               "functions, not arrays over crank angles")
-    if not isinstance(mechanism, Mechanism):
-        raise SimulationError(f"mechanism = {mechanism!r}: a sielaff.Mechanism")
-    validate(mechanism)
+    try:
+        (model.validate or (lambda m: None))(mechanism)
+    except ValueError as exc:
+        raise SimulationError(str(exc)) from None
     for name, v in mechanism.as_dict().items():
         if np.ndim(v):
             raise SimulationError(f"simulate runs one design: {name} is an array")
@@ -332,9 +337,9 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
     f_in = _check_speed("flywheel", flywheel)
     if f_in < 0.0:
         raise SimulationError(f"flywheel = {flywheel!r}: an inertia cannot be negative")
-    if not bool(np.all(linkage_class(mechanism).turns_fully)):
-        raise SimulationError("simulate: the crank cannot make a whole revolution (not a "
-                              "crank-rocker or double-crank on this branch)")
+    why = model.full_turn(mechanism) if model.full_turn is not None else None
+    if why is not None:
+        raise SimulationError(f"simulate: {why}")
     start_name = "speed0" if speed0 is not None else "the mechanism's TH2D"
     w0 = _check_speed(start_name, mechanism.TH2D if speed0 is None else speed0)
     revs = _check_speed("revolutions", revolutions)

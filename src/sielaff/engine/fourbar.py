@@ -73,6 +73,16 @@ def _link_rates(R2, c2, s2, TH2D, TH3D, TH4D):
             3: LinkRate(TH3D, -R2 * s2 * TH2D, R2 * c2 * TH2D), 4: LinkRate(TH4D, 0.0, 0.0)}
 
 
+def _full_turn(mechanism: Any) -> str | None:
+    """Why the crank cannot make a whole revolution (its class), or None."""
+    from sielaff.engine.classify import linkage_class
+
+    c = linkage_class(mechanism)
+    if bool(np.all(c.turns_fully)):
+        return None
+    return f"the crank cannot make a whole revolution (a {c.kind})"
+
+
 _NONE = (0.0, 0.0, 0.0)
 _GEOMETRY = ("R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34")
 
@@ -90,7 +100,8 @@ FOURBAR = Model("four-bar", seed=_seed, results=RESULTS,
                 breakdown=("TORQ_INERTIA", "TORQ"), counts="s34",
                 params=(Param("branch", "open", _branch,
                               '{"open", "crossed"}\n    Which assembly of the loop.'),),
-                statics=(_statics, _GEOMETRY), mechanism=Mechanism, validate=validate)
+                statics=(_statics, _GEOMETRY), mechanism=Mechanism, validate=validate,
+                full_turn=_full_turn)
 FOURBAR.add(positions, velocities, accelerations, inertia, forces, VECTOR_STEPS,
             step_of(_links), step_of(_link_rates))
 FOURBAR.add_effect("gravity")

@@ -198,7 +198,8 @@ class Model:
     own Scene fields; ``statics``: ``(fn, geometry)``, how loads on its links become its
     sums (:mod:`sielaff.engine.links`); ``mechanism``: the type of mechanism it analyses
     (``analysis.model_for`` finds a mechanism's model by it); ``validate(mechanism)``: the
-    one check of such a mechanism's fields (a ValueError in one line naming the field).
+    one check of such a mechanism's fields (a ValueError in one line naming the field);
+    ``full_turn(mechanism)``: why its crank cannot make a whole revolution, or None.
     """
 
     def __init__(self, name: str, *, seed: Callable[[Any, Any, Any], dict[str, Any]],
@@ -207,10 +208,12 @@ class Model:
                  params: tuple[Param, ...] = (),
                  statics: tuple[Callable[..., Any], tuple[str, ...]] | None = None,
                  torque_slot: str = "torq", mechanism: type | None = None,
-                 validate: Callable[[Any], None] | None = None) -> None:
+                 validate: Callable[[Any], None] | None = None,
+                 full_turn: Callable[[Any], str | None] | None = None) -> None:
         self.name = name
         self.mechanism = mechanism
         self.validate = validate
+        self.full_turn = full_turn
         self.own_params = params
         self.statics = statics
         self.torque_slot = torque_slot
@@ -313,7 +316,8 @@ class Model:
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
                     breakdown=self.breakdown, counts=self.counts, params=self.own_params,
                     statics=self.statics, torque_slot=self.torque_slot,
-                    mechanism=self.mechanism, validate=self.validate)
+                    mechanism=self.mechanism, validate=self.validate,
+                    full_turn=self.full_turn)
         new._own = [redo(s) for s in self._own]
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]

@@ -40,7 +40,7 @@ from sielaff.engine.registry import Model, step, step_of
 from sielaff.engine.velocities import _com_line2, _com_line3, _vel_A, _vel_G2, _vel_G3
 from sielaff.mechanism import MASS_DIVISOR
 from sielaff.quantities import declare
-from sielaff.slider_crank import FIELD_NAMES, SliderCrank, validate_slider
+from sielaff.slider_crank import FIELD_NAMES, SliderCrank, full_turn_failure, validate_slider
 
 __all__ = ["SLIDER_CRANK", "SLIDER_RESULTS", "SLIDER_SLOTS"]
 
@@ -258,7 +258,8 @@ SLIDER_CRANK = Model(
     params=(Param("branch", "open", _branch,
                   '{"open", "crossed"}\n    The slider\'s side: B to the right of A '
                   "(open) or to the left."), _th2dd()),
-    statics=(slider_statics, _GEOMETRY), mechanism=SliderCrank, validate=validate_slider)
+    statics=(slider_statics, _GEOMETRY), mechanism=SliderCrank, validate=validate_slider,
+    full_turn=full_turn_failure)
 SLIDER_CRANK.add(
     (step_of(f) for f in (_crank_angle, _rod_angle, _rod_line, _slider_position, _assembly,
                           _rates, _accelerations, _com_line2, _com_line3, _vel_A, _vel_G2,
