@@ -128,28 +128,6 @@ def test_positions_thzero_to_thmax_inclusive(tmp_path):
     assert [r[0] for r in rows] == [7] * 11 + [8]
 
 
-def test_count_is_exact():
-    F = table.Fraction
-    assert table.count(F(0), F("0.0004"), F(400)) == 1_000_001
-    assert table.count(F(0), F("0.0003"), F(1)) == 3334
-    assert table.count(F(10), F(10), F(360)) == 36
-    assert table.count(F(5), F(1), F(5)) == 1
-    assert table.count(F(6), F(1), F(5)) == 0
-    assert table.count(F(6), F(-1), F(5)) == 0
-    with pytest.raises(ValueError):
-        table.count(F(5), F(0), F(5))
-
-
-def test_angles_are_correctly_rounded():
-    F = table.Fraction
-    a = table.angles(F("0.0004"), F("0.0004"), 0, 1000)
-    assert a.tolist() == [float(table.Decimal(k + 1) * table.Decimal("0.0004"))
-                          for k in range(1000)]
-    # no short decimal grid (a deck built from binary fractions): plain doubles
-    third = F(1, 3)
-    assert table.angles(F(0), third, 0, 4).tolist() == [0.0, 1 / 3, 2 / 3, 1.0]
-
-
 def test_deck_built_in_code_reads_its_floats_as_decimals():
     deck = read_deck(DECKS / "example.dat")
     deck.exact_ranges = []

@@ -44,13 +44,14 @@ def load_spec(path: str):
     read it: a ``Spec`` with ``mechanism`` (in its unit system), ``scene``, ``ranges``
     ((THZERO, DELTA, THMAX) per range card, deg) and ``motor`` (``[motor]`` read as
     ``simulate`` reads it: Motor, flywheel, revolutions, steady, speed, method, rtol; None
-    without one).
+    without one).  A ``[linkage] kind = "slider-crank"`` spec gives a ``SliderCrank`` and a
+    ``SliderCrankScene``.
     A spec that cannot be read is a ValueError in one line naming the file and key."""
     from sielaff.tools.common import CommandError, read_spec, read_spec_deck
     from sielaff.tools.spec import PunchError, Spec
 
     try:
-        deck, scene = read_spec_deck(path)
+        deck, scene = read_spec_deck(path, ("slider-crank",))
         spec = read_spec(path)
         motor = None
         if "motor" in spec:

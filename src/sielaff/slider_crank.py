@@ -25,14 +25,15 @@ Each field may be a numpy array that broadcasts against the crank angles.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 from sielaff.mechanism import STANDARD_GRAVITY
 
-__all__ = ["FIELD_NAMES", "SLIDER_EXAMPLE", "UNITS", "SliderCrank", "full_turn_failure",
-           "validate_slider"]
+__all__ = ["FIELD_NAMES", "KIND", "SLIDER_EXAMPLE", "SPEC_NAMES", "UNITS", "SliderCrank",
+           "Stroke", "full_turn_failure", "stroke", "validate_slider"]
 
 FIELD_NAMES = ("W2", "W3", "W4", "ZI2", "ZI3", "R2", "R3", "offset", "ADEL2", "ADEL3",
                "RG2", "RG3", "TH2D")
@@ -41,6 +42,27 @@ FIELD_NAMES = ("W2", "W3", "W4", "ZI2", "ZI3", "R2", "R3", "offset", "ADEL2", "A
 UNITS = {"W2": "lb", "W3": "lb", "W4": "lb", "ZI2": "in-lb-sec^2", "ZI3": "in-lb-sec^2",
          "R2": "in", "R3": "in", "offset": "in", "ADEL2": "deg", "ADEL3": "deg",
          "RG2": "in", "RG3": "in", "TH2D": "rad/sec"}
+
+#: A spec's ``[linkage] kind`` for a slider-crank.
+KIND = "slider-crank"
+
+#: Where a spec gives each field: (section, key, sub-key or None) -> field name; the
+#: tables and keys of the four-bar's spec, with the rod and the slider for its links.
+SPEC_NAMES: dict[tuple[str, str, str | None], str] = {
+    ("weights", "crank", None): "W2",
+    ("weights", "rod", None): "W3",
+    ("weights", "slider", None): "W4",
+    ("inertia", "crank", None): "ZI2",
+    ("inertia", "rod", None): "ZI3",
+    ("lengths", "crank", None): "R2",
+    ("lengths", "rod", None): "R3",
+    ("lengths", "offset", None): "offset",
+    ("mass_centres", "crank", "angle"): "ADEL2",
+    ("mass_centres", "rod", "angle"): "ADEL3",
+    ("mass_centres", "crank", "distance"): "RG2",
+    ("mass_centres", "rod", "distance"): "RG3",
+    ("drive", "speed", None): "TH2D",
+}
 
 _LENGTHS = ("R2", "R3")
 _NONNEGATIVE = ("W2", "W3", "W4", "ZI2", "ZI3")
@@ -138,6 +160,48 @@ def full_turn_failure(m: SliderCrank) -> str | None:
         return (f"R3 = {R3:g} < R2 + |offset| = {R2 + abs(e):g}: the rod is shorter than "
                 "the crank plus the offset, so the crank cannot turn a full revolution")
     return None
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """The dead centres of a slider-crank whose crank turns fully (open branch): XB [in
+    or m] and THETA 2 [deg] at the outer one (crank and rod in line, extended) and the
+    inner one (folded); the crank angles [deg] of the inward stroke (XB falling, the
+    crank turning CCW from outer to inner) and of the outward one; ``time_ratio`` the
+    longer over the shorter (1 with no offset)."""
+
+    xb_outer: float
+    xb_inner: float
+    at_outer: float
+    at_inner: float
+    inward: float
+    outward: float
+
+    @property
+    def length(self) -> float:
+        return self.xb_outer - self.xb_inner
+
+    @property
+    def time_ratio(self) -> float:
+        return max(self.inward, self.outward) / min(self.inward, self.outward)
+
+
+def stroke(m: SliderCrank) -> Stroke:
+    """The dead centres of ``m`` (scalar fields, a crank that turns fully) by their
+    construction: at the outer one O2, A and B are in line with |O2 B| = R2 + R3, so
+    XB = sqrt((R3 + R2)^2 - e^2) and THETA 2 = asin(e / (R2 + R3)); at the inner one A is
+    on the far side of O2 with |O2 B| = R3 - R2, so XB = sqrt((R3 - R2)^2 - e^2) and
+    THETA 2 = 180 + asin(e / (R3 - R2)) (e the offset).  ValueError if the crank cannot
+    turn fully."""
+    failure = full_turn_failure(m)
+    if failure:
+        raise ValueError(failure)
+    R2, R3, e = float(m.R2), float(m.R3), float(m.offset)
+    at_outer = math.degrees(math.asin(e / (R2 + R3))) % 360.0
+    at_inner = 180.0 + math.degrees(math.asin(e / (R3 - R2))) if R3 > R2 else 180.0
+    inward = (at_inner - at_outer) % 360.0
+    return Stroke(math.sqrt((R3 + R2) ** 2 - e * e), math.sqrt(max((R3 - R2) ** 2 - e * e, 0.0)),
+                  at_outer, at_inner, inward, 360.0 - inward)
 
 
 def _first(v: Any, bad: Any) -> str:

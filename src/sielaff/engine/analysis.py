@@ -17,7 +17,8 @@ from sielaff.engine.scene import Scene, SceneBase, scene_from
 from sielaff.engine.slider_crank import SLIDER_CRANK
 from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
-__all__ = ["MODELS", "AssemblyWarning", "Results", "analyze", "model_for", "plan", "prepare"]
+__all__ = ["MODELS", "AssemblyWarning", "Results", "analyze", "model_for", "model_named", "plan",
+           "prepare"]
 
 #: A keyword argument not given (``None`` means no gravity, so it cannot mark absence).
 _UNSET: Any = type("Unset", (), {"__repr__": lambda self: "<unset>"})()
@@ -139,6 +140,14 @@ class Request:
 
 #: The models ``analyze`` knows, each for its type of mechanism (the first that fits).
 MODELS: list[Model] = [FOURBAR, SLIDER_CRANK]
+
+
+def model_named(name: str) -> Model:
+    """The registered model called ``name`` (a spec's ``[linkage] kind``)."""
+    for model in MODELS:
+        if model.name == name:
+            return model
+    raise KeyError(f"no model {name!r} (models: {', '.join(m.name for m in MODELS)})")
 
 
 def model_for(mechanism: Any) -> Model:

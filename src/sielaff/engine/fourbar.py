@@ -122,6 +122,7 @@ KINEMATIC_OUTPUTS = tuple(
     if n != "TEX" and not FOURBAR.depends_on(n, frozenset(
         ("W2", "W3", "W4", "ZI2", "ZI3", "ZI4", "TEX", "tex_fn")))
 )
+FOURBAR.kinematics = KINEMATIC_OUTPUTS
 
 #: Inputs seeded into the namespace by the model and its effects (for the 1966 scene):
 #: what each effect's seed gives for its fields' defaults, less what a step provides.

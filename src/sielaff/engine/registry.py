@@ -222,6 +222,8 @@ class Model:
         self.sums = dict(sums or {})
         self.breakdown = breakdown
         self.counts = counts
+        #: The results that need no force analysis (set by the model's module).
+        self.kinematics: tuple[str, ...] = ()
         self.effects: list[Effect] = []
         self._own: list[Step] = []
         self.calls: Counter[str] = Counter()
@@ -322,6 +324,7 @@ class Model:
         new.effects = [dataclasses_replace(e, steps=tuple(redo(s) for s in e.steps))
                        for e in self.effects]
         new._redo = redo
+        new.kinematics = self.kinematics
         new._derive()
         return new
 

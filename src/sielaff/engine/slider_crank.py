@@ -271,3 +271,8 @@ SLIDER_CRANK.add_effect("gravity")
 SLIDER_CRANK.add_effect("loads")
 SLIDER_CRANK.add_effect("slider_force")
 SLIDER_CRANK.add_effect("elements")
+
+#: The results that need no masses, inertias or FEX: no force analysis.
+SLIDER_CRANK.kinematics = tuple(
+    n for n in SLIDER_RESULTS
+    if not SLIDER_CRANK.depends_on(n, frozenset(("W2", "W3", "W4", "ZI2", "ZI3", "FEX"))))

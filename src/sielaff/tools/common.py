@@ -449,27 +449,35 @@ def no_scene() -> Scene:
     return Scene()
 
 
-def read_spec_deck(path: str) -> tuple[Deck, Scene]:
-    """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`."""
-    deck, scene, _ = read_spec_with(path)
+def read_spec_deck(path: str, kinds: tuple[str, ...] = ()) -> tuple[Deck, Scene]:
+    """A TOML spec's deck (in its unit system) and its :class:`~sielaff.Scene`; a spec of
+    a ``[linkage] kind`` besides the four-bar only if ``kinds`` names it."""
+    deck, scene, _ = read_spec_with(path, kinds=kinds)
     assert deck is not None
     return deck, scene
 
 
 def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
-                   deck: bool = True) -> tuple[Deck | None, Scene, Any]:
+                   deck: bool = True, kinds: tuple[str, ...] = ()
+                   ) -> tuple[Deck | None, Scene, Any]:
     """A TOML spec's deck (in its unit system; None with ``deck=False``, for a spec whose
     linkages a command makes, as synth's), its :class:`~sielaff.Scene`, and
     ``read(spec, path)``: the command's own table (``[tolerance]``, ``[synthesis]``,
-    ...).  Any fault is one CommandError naming the file and the key."""
+    ...).  A ``[linkage] kind`` besides the four-bar is refused unless ``kinds`` names
+    it.  Any fault is one CommandError naming the file and the key."""
     import dataclasses
 
     from sielaff.tools.spec import PunchError, scene_of, spec_deck
+    from sielaff.tools.spec_fields import FOUR_BAR, linkage_kind
 
     if not input_exists(path):
         raise CommandError(f"{path}: no such spec")
     try:
         spec = read_spec(path)
+        kind = linkage_kind(spec, path)
+        if kind != FOUR_BAR and kind not in kinds:
+            raise PunchError(f'{path}: [linkage] kind = "{kind}": this command takes a '
+                             f"four-bar only so far (sielaff table and check take a {kind})")
         units, scene = scene_of(spec, path)
         own = None if read is None else read(spec, path)
         made = spec_deck(spec, path) if deck else None
@@ -481,7 +489,7 @@ def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
 
 
 def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
-               any_kind: bool = False) -> tuple[Deck, Scene]:
+               any_kind: bool = False, kinds: tuple[str, ...] = ()) -> tuple[Deck, Scene]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
     (the deck, its Scene).  Checked as ``load_for_engine``
     says, with the scene's effects in the results; with ``any_linkage`` any four-bar
@@ -489,15 +497,25 @@ def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str |
     ``branch`` ("open" or "crossed") overrides the spec's ``[scene] branch``.  With
     ``any_kind`` every Grashof kind and a triple rocker are taken, not only a
     crank-rocker: a linkage whose crank cannot turn fully is worked over the arcs where
-    it assembles, and stderr says which (:func:`kind_note`)."""
+    it assembles, and stderr says which (:func:`kind_note`).  A spec of another
+    ``[linkage] kind`` is taken if ``kinds`` names it (:func:`other_kind`), else refused
+    in one line.  ``outputs`` may be a function of the mechanism (its model's names)."""
     import dataclasses
 
     if is_spec(path):
-        deck, scene = read_spec_deck(path)
+        deck, scene = read_spec_deck(path, kinds)
     else:
         deck, scene = load_deck(path), no_scene()
     if branch is not None:
         scene = dataclasses.replace(scene, branch=branch)
+    if callable(outputs):
+        outputs = outputs(deck.mechanism)
+    from sielaff.mechanism import Mechanism
+
+    if not isinstance(deck.mechanism, Mechanism):
+        from sielaff.tools.kinds import other_kind
+
+        return other_kind(deck, scene, outputs, any_kind or any_linkage), scene
     if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
         problem = mechanism_problem(deck)
         if problem is not None and problem.status == EXIT_DECK:

@@ -145,6 +145,7 @@ def spec_text() -> str:
     out += ["[[range]]                     # one per range card: THZERO, DELTA, THMAX"]
     out += [f"{k + ' = ...':<30}# deg" for k in RANGE_KEYS]
     out += ["", "[deck]", 'sequence = "SIEL"             # columns 73-80 of the punched cards', ""]
+    out += _kinds_help(units)
     out += [scene_help(), ""]
     for table, (command, keys) in other_tables().items():
         out.append(f"{'[' + table + ']':<30}# read by sielaff {command} "
@@ -155,6 +156,27 @@ def spec_text() -> str:
                                                     else ""))
         out.append("")
     return "\n".join(out).rstrip("\n")
+
+
+def _kinds_help(units) -> list[str]:
+    """``[linkage] kind``: the four-bar by default; each other kind with its own keys."""
+    from sielaff.tools.spec_fields import FOUR_BAR, kind_names
+
+    out = ['[linkage]', f'kind = "{FOUR_BAR}"             # the default; or '
+           + ", ".join(f'"{k}"' for k in kind_names() if k != FOUR_BAR)
+           + " (the tables below, with these keys)"]
+    for kind, names in kind_names().items():
+        if kind == FOUR_BAR:
+            continue
+        out.append(f"#   {kind}:")
+        keys: dict[tuple[str, str], list[tuple[str | None, str]]] = {}
+        for (section, key, sub), name in names.items():
+            keys.setdefault((section, key), []).append((sub, name))
+        for (section, key), subs in keys.items():
+            what = "; ".join(units(n) if sub is None else f"{sub}: {units(n)}"
+                             for sub, n in sorted(subs, key=str))
+            out.append(f"#     [{section}] {key}: {what}")
+    return out + [""]
 
 
 #: The worked example of each of the other tables.

@@ -78,9 +78,12 @@ from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
 from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER
 from sielaff.tools.spec_fields import (
     CARDS,
+    FOUR_BAR,
     RANGE_KEYS,
     PunchError,
     _where,
+    kind_names,
+    linkage_kind,
     spec_dict,
     spec_number,
     spec_text,
@@ -164,6 +167,10 @@ def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str
     refused (a 1966 deck is in in-lb-sec), and so is a linkage that is not a
     crank-rocker, unless ``any_units``: the modern tools read the values through the deck,
     keep the spec's unit system beside it and judge the linkage's kind themselves."""
+    kind = linkage_kind(spec, path)
+    if kind != FOUR_BAR:
+        raise PunchError(f'{path}: [linkage] kind = "{kind}": a 1966 deck is a four-bar\'s; '
+                         "the modern tools (sielaff table, check) read this spec directly")
     values, ranges, prefix = spec_values(spec, path)
     scene = spec.get("scene")
     if not any_units and isinstance(scene, dict) and scene.get("units", "in-lb-sec") != \
@@ -210,11 +217,16 @@ def _check_design(values: dict[str, Decimal], ranges, path: str,
     if failure and not any_kind:
         raise PunchError(f"{path}: [lengths]: THIS IS NOT A CRANK ROCKER MECHANISM: {failure}",
                          EXIT_NOT_CRANK_ROCKER)
+    _check_ranges(ranges, path)
+    return mechanism
+
+
+def _check_ranges(ranges, path: str) -> None:
+    """PunchError naming the first range card the 1966 loop would never leave."""
     for n, (start, step, stop) in enumerate(ranges, 1):
         if step <= 0 and start <= stop:
             raise PunchError(f"{path}: [[range]] {n}: step = {step} with start = {start} <= "
                              f"stop = {stop}: the 1966 loop would never end")
-    return mechanism
 
 
 def spec_deck(spec: dict, path: str = "<spec>") -> Deck:
@@ -224,8 +236,34 @@ def spec_deck(spec: dict, path: str = "<spec>") -> Deck:
     the range cards numbered 7, 8, ... as a punched deck's would be.  Checked as
     :func:`punch_deck` checks (ranges that end), but of any kind: the tools take every
     four-bar and say which it is (:func:`sielaff.tools.common.load_scene`)."""
+    kind = linkage_kind(spec, path)
+    if kind != FOUR_BAR:
+        return _other_deck(spec, path, kind)
     values, ranges, _ = spec_values(spec, path)
     mechanism = _check_design(values, ranges, path, any_kind=True)
+    return Deck(mechanism, [Range(*(float(x) + 0.0 for x in r)) for r in ranges],
+                list(range(len(CARDS) + 1, len(CARDS) + 1 + len(ranges))), path, [],
+                dict(values), [tuple(r) for r in ranges])
+
+
+def _other_deck(spec: dict, path: str, kind: str) -> Deck:
+    """A spec of another linkage kind as a deck for the modern tools: its mechanism (a
+    :class:`~sielaff.SliderCrank`), checked by its model in one line naming the spec's
+    key, and its range cards (which must end)."""
+    from sielaff.engine.analysis import model_named
+
+    names = kind_names()[kind]
+    values, ranges, _ = spec_values(spec, path, names)
+    model = model_named(kind)
+    assert model.mechanism is not None and model.validate is not None
+    mechanism = model.mechanism(**{n: float(v) + 0.0 for n, v in values.items()})
+    try:
+        model.validate(mechanism)
+    except ValueError as exc:
+        field = str(exc).split(" ", 1)[0].rsplit(".", 1)[-1]
+        where = _where(path, field, names) if field in values else path
+        raise PunchError(f"{where}: {exc}") from None
+    _check_ranges(ranges, path)
     return Deck(mechanism, [Range(*(float(x) + 0.0 for x in r)) for r in ranges],
                 list(range(len(CARDS) + 1, len(CARDS) + 1 + len(ranges))), path, [],
                 dict(values), [tuple(r) for r in ranges])

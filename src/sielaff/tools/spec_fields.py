@@ -16,7 +16,8 @@ from decimal import Decimal
 
 from sielaff.tools.errors import EXIT_DECK as EXIT_SPEC
 
-__all__ = ["MAX_DIGITS", "MAX_EXPONENT", "OTHER_TABLES", "PunchError", "spec_dict",
+__all__ = ["FOUR_BAR", "MAX_DIGITS", "MAX_EXPONENT", "OTHER_TABLES", "PunchError",
+           "kind_names", "linkage_kind", "spec_dict",
            "spec_number", "spec_text", "spec_values", "spec_whole"]
 
 LINKS = ("crank", "coupler", "rocker")
@@ -43,7 +44,25 @@ SPEC_NAMES: dict[tuple[str, str, str | None], str] = {
 RANGE_KEYS = ("start", "step", "stop")
 #: The tables a spec may hold besides the mechanism's: each is read by the command that
 #: owns it (so one spec serves several commands); any other table is refused.
-OTHER_TABLES = ("scene", "sweep", "motor", "synthesis", "tolerance")
+OTHER_TABLES = ("linkage", "scene", "sweep", "motor", "synthesis", "tolerance")
+
+#: The four-bar's ``[linkage] kind`` (the default: a spec without ``[linkage]``).
+FOUR_BAR = "four-bar"
+
+
+def kind_names() -> dict[str, dict[tuple[str, str, str | None], str]]:
+    """Each ``[linkage] kind`` a spec may name, with where its fields are given."""
+    from sielaff import slider_crank
+
+    return {FOUR_BAR: SPEC_NAMES, slider_crank.KIND: slider_crank.SPEC_NAMES}
+
+
+def linkage_kind(spec: dict, path: str = "<spec>") -> str:
+    """The spec's ``[linkage] kind`` ("four-bar" without one); one line naming the key if
+    it is not a kind sielaff knows."""
+    table = _table(f"{path}: [linkage]", spec.get("linkage", {}))
+    _unknown(f"{path}: [linkage]", table, ("kind",))
+    return _name(f"{path}: [linkage] kind", table.get("kind", FOUR_BAR), tuple(kind_names()))
 
 
 @dataclass(frozen=True)
@@ -157,14 +176,16 @@ def _unknown(where: str, table: dict, known) -> None:
         raise PunchError(f"{where}: unknown key {extra[0]!r} (expected: {', '.join(known)})")
 
 
-def spec_values(spec: dict, path: str = "<spec>"
+def spec_values(spec: dict, path: str = "<spec>", names: dict | None = None
                 ) -> tuple[dict[str, Decimal], list[tuple[Decimal, Decimal, Decimal]], str | None]:
-    """The listing's values, the range cards and the sequence prefix (None: blank).
+    """The listing's values (or those of ``names``: another kind's fields, as
+    :func:`kind_names` gives them), the range cards and the sequence prefix (None: blank).
 
     Checks the spec's shape only (every key present, numbers, no unknown keys).
     """
+    names = SPEC_NAMES if names is None else names
     sections: dict[str, list[str]] = {}
-    for section, key, _ in SPEC_NAMES:
+    for section, key, _ in names:
         keys = sections.setdefault(section, [])
         if key not in keys:
             keys.append(key)
@@ -178,7 +199,7 @@ def spec_values(spec: dict, path: str = "<spec>"
         for key in keys:
             if key not in table:
                 raise PunchError(f"{path}: [{section}] has no {key}")
-    for (section, key, sub), name in SPEC_NAMES.items():
+    for (section, key, sub), name in names.items():
         item = spec[section][key]
         where = f"{path}: [{section}] {key}"
         if sub is not None:
@@ -214,8 +235,8 @@ def spec_values(spec: dict, path: str = "<spec>"
     return values, cards, prefix
 
 
-def _where(path: str, name: str) -> str:
-    for (section, key, sub), n in SPEC_NAMES.items():
+def _where(path: str, name: str, names: dict | None = None) -> str:
+    for (section, key, sub), n in (SPEC_NAMES if names is None else names).items():
         if n == name:
             return f"{path}: [{section}] {key}{'.' + sub if sub else ''}"
     return f"{path}: {name}"

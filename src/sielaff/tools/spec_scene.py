@@ -40,15 +40,21 @@ class _Reader:
         return PunchError(message)
 
 
-def _effects() -> list[Any]:
-    from sielaff.engine.fourbar import FOURBAR
+def _model(kind: str | None = None) -> Any:
+    from sielaff.engine.analysis import model_named
+    from sielaff.tools.spec_fields import FOUR_BAR
 
-    return [e for e in FOURBAR.effects if e.spec is not None]
+    return model_named(kind or FOUR_BAR)
 
 
-def scene_keys() -> tuple[str, ...]:
-    """Every key ``[scene]`` may hold: its own, then each effect's."""
-    return OWN_KEYS + tuple(k for e in _effects() for k in e.spec.keys)
+def _effects(kind: str | None = None) -> list[Any]:
+    return [e for e in _model(kind).effects if e.spec is not None]
+
+
+def scene_keys(kind: str | None = None) -> tuple[str, ...]:
+    """Every key ``[scene]`` may hold (for the linkage ``kind``, the four-bar by default):
+    its own, then each of the kind's effects'."""
+    return OWN_KEYS + tuple(k for e in _effects(kind) for k in e.spec.keys)
 
 
 def scene_help() -> str:
@@ -58,27 +64,30 @@ def scene_help() -> str:
 
 
 def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
-    """The spec's unit system and its ``[scene]`` as a :class:`~sielaff.Scene` (see
+    """The spec's unit system and its ``[scene]`` as a :class:`~sielaff.Scene` (the
+    Scene of its ``[linkage] kind``'s model: a ``SliderCrankScene`` for a slider-crank; see
     docs/effects.md and :func:`scene_help`), read here and nowhere else.  Lengths,
     forces and torques are in the spec's unit system; angles in degrees."""
-    from sielaff.engine.scene import Scene
+    from sielaff.engine.scene import scene_of as scene_type
     from sielaff.mechanism import STANDARD_GRAVITY
+    from sielaff.tools.spec_fields import linkage_kind
 
+    kind = linkage_kind(spec, path)
     scene = _table(f"{path}: [scene]", spec.get("scene", {}))
-    _unknown(f"{path}: [scene]", scene, scene_keys())
+    _unknown(f"{path}: [scene]", scene, scene_keys(kind))
     units = _name(f"{path}: [scene] units", scene.get("units", "in-lb-sec"),
                   tuple(STANDARD_GRAVITY), " or ".join(STANDARD_GRAVITY))
     fields: dict = {"branch": _name(f"{path}: [scene] branch", scene.get("branch", "open"),
                                     ("open", "crossed"))}
-    for effect in _effects():
+    for effect in _effects(kind):
         fields.update(effect.spec.read(scene, path, _Reader))
     try:
-        return units, Scene(**fields)
+        return units, scene_type(_model(kind))(**fields)
     except ValueError as exc:
         raise PunchError(f"{path}: [scene] {exc}") from None
 
 
-def scene_spec(scene: Scene, units: str = "in-lb-sec") -> dict:
+def scene_spec(scene: Scene, units: str = "in-lb-sec") -> dict:  # the four-bar's
     """``scene`` as a spec's ``[scene]`` table (parsed TOML): what :func:`scene_of` reads
     back as the same scene (a field that is a function or an array has no TOML form and
     is left out)."""

@@ -75,8 +75,6 @@ import argparse
 import sys
 import warnings
 from collections.abc import Iterator
-from decimal import Decimal
-from fractions import Fraction
 from typing import TextIO
 
 import numpy as np
@@ -84,6 +82,7 @@ import numpy as np
 from sielaff import engine
 from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.tools.kinds import angles, count, exact_range
 
 __all__ = ["BLOCK", "CHUNK", "FORMATS", "columns", "count", "angles",
            "header", "torque_parts", "write_table", "cmd_table"]
@@ -108,59 +107,14 @@ def columns(kinematics_only: bool = False, scene: Scene | None = None,
     with gravity, TORQ_FRICTION and each pin's PLOSS with friction, ...); with
     ``torque_parts`` every part of TORQ (:func:`torque_parts`, a part the scene lacks
     is 0) comes first."""
-    if kinematics_only:
-        return ("CARD",) + engine.KINEMATIC_OUTPUTS
-    sc = scene or Scene()
     model = engine.FOURBAR if mechanism is None else engine.model_for(mechanism)
+    if kinematics_only:
+        return ("CARD",) + model.kinematics
+    sc = scene or engine.scene_of(model)()
     extra: list[str] = list(model.torque_parts) if torque_parts else []
     for effect in model.effects_on(sc):
-        extra += [n for n in effect.shown(sc) if n not in engine.RESULTS]
-    return ("CARD",) + engine.RESULTS + tuple(dict.fromkeys(extra))
-
-
-# --------------------------------------------------------------------------
-# Positions of a range card
-# --------------------------------------------------------------------------
-
-
-def _exact(deck: Deck, i: int) -> tuple[Fraction, Fraction, Fraction]:
-    """Range card i as exact fractions.
-
-    The decimals punched on the card if the deck has them (``Deck.exact_ranges``);
-    for a deck built in code, each float's shortest decimal (0.1 means 1/10).
-    """
-    exact = getattr(deck, "exact_ranges", None) or []
-    if i < len(exact):
-        values = exact[i]
-    else:
-        values = tuple(Decimal(repr(float(v))) for v in deck.ranges[i])
-    return tuple(Fraction(v) for v in values)  # type: ignore[return-value]
-
-
-def count(thzero: Fraction, delta: Fraction, thmax: Fraction) -> int:
-    """Positions THZERO + k DELTA <= THMAX, k = 0, 1, ... (exact; DELTA > 0 unless empty)."""
-    if thzero > thmax:
-        return 0
-    if delta <= 0:
-        raise ValueError(f"DELTA = {float(delta):g} <= 0: the range never ends")
-    return int((thmax - thzero) // delta) + 1
-
-
-def angles(thzero: Fraction, delta: Fraction, start: int, stop: int) -> np.ndarray:
-    """THZERO + k DELTA for k in [start, stop), each the double nearest the exact value."""
-    k = np.arange(start, stop, dtype=np.int64)
-    # Both on a common decimal grid 10^-d: integers, then one correctly rounded division.
-    for d in range(0, 23):  # 10^d is an exact double up to 10^22
-        scale = 10**d
-        t0, dd = thzero * scale, delta * scale
-        if t0.denominator == 1 and dd.denominator == 1:
-            t0, dd = int(t0), int(dd)
-            if abs(t0) + abs(dd) * max(stop - 1, 0) < 2**53:
-                num = np.float64(t0) + np.float64(dd) * k.astype(np.float64)  # exact integers
-                return num / np.float64(scale)
-            break
-    # Otherwise (no short decimal grid, or huge counts): THZERO + k DELTA in doubles.
-    return float(thzero) + float(delta) * k.astype(np.float64)
+        extra += [n for n in effect.shown(sc) if n not in model.results]
+    return ("CARD",) + model.results + tuple(dict.fromkeys(extra))
 
 
 # --------------------------------------------------------------------------
@@ -213,7 +167,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
     if fmt not in FORMATS:
         raise ValueError(f"unknown table format {fmt!r} ({', '.join(FORMATS)})")
     warn = warn or (lambda text: None)
-    scene = scene or Scene()
+    scene = scene or engine.scene_of(engine.model_for(deck.mechanism))()
     json = fmt == "json"
     system = getattr(deck.mechanism, "units", "in-lb-sec")
     names = columns(kinematics_only, scene, torque_parts, deck.mechanism)
@@ -274,7 +228,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
         batched = 0
 
     for i, card in enumerate(deck.range_cards):
-        thzero, delta, thmax = _exact(deck, i)
+        thzero, delta, thmax = exact_range(deck, i)
         n = count(thzero, delta, thmax)
         if n == 0:
             warn(f"{deck.path}: card {card}: THZERO = {float(thzero):g} > THMAX = "
@@ -306,6 +260,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
     from sielaff.tools.common import load_scene, refuse_overwriting_inputs
+    from sielaff.tools.kinds import turns_whole
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
@@ -315,9 +270,10 @@ def cmd_table(args: argparse.Namespace) -> int:
 
         raise CommandError("sielaff: --torque-parts needs the force analysis that --only "
                            "kinematics leaves out")
-    deck, scene = load_scene(args.deck, columns(args.only == "kinematics")[1:],
-                             branch=getattr(args, "branch", None), any_kind=True)
-    from sielaff.mechanism import crank_rocker_failure
+    kinematics = args.only == "kinematics"
+    deck, scene = load_scene(args.deck, lambda m: columns(kinematics, mechanism=m)[1:],
+                             branch=getattr(args, "branch", None), any_kind=True,
+                             kinds=("slider-crank",))
 
     def warn(text: str) -> None:
         print(f"sielaff: warning: {text}", file=sys.stderr)
@@ -325,7 +281,7 @@ def cmd_table(args: argparse.Namespace) -> int:
     with atomic_output(args.output) as out:
         write_table(deck, out, args.format, args.only == "kinematics", warn,
                     units=getattr(args, "header", "units") == "units", scene=scene,
-                    assembled_only=crank_rocker_failure(deck.mechanism) is not None,
+                    assembled_only=not turns_whole(deck.mechanism),
                     torque_parts=parts)
     return 0
 

@@ -162,8 +162,6 @@ def _program_test_passes(m: Mechanism) -> bool:
 
 def cmd_check(args) -> int:
     """``sielaff check DECK``: the report on stdout, the reason for a non-zero exit on stderr."""
-    import sys
-
     from sielaff.tools.common import (
         CommandError,
         input_exists,
@@ -171,7 +169,6 @@ def cmd_check(args) -> int:
         read_input_deck,
         read_spec_deck,
         refuse_bad_output,
-        write_stdout,
     )
 
     output = getattr(args, "output", None)
@@ -179,17 +176,36 @@ def cmd_check(args) -> int:
     if not input_exists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")
     if is_spec(args.deck):  # a spec: its deck, and its scene for the engine
-        deck, scene = read_spec_deck(args.deck)
+        deck, scene = read_spec_deck(args.deck, ("slider-crank",))
     else:
         deck, scene = read_input_deck(args.deck), Scene()
     if getattr(args, "branch", None):
         import dataclasses
 
         scene = dataclasses.replace(scene, branch=args.branch)
+    if not isinstance(deck.mechanism, Mechanism):  # another kind: its own report
+        from sielaff.tools.check.slider import check_slider, slider_facts
+        from sielaff.tools.kinds import other_kind, turns_whole
+
+        if turns_whole(deck.mechanism):  # else the report says why, exit 3
+            other_kind(deck, scene)
+        rep = check_slider(deck, scene)
+        text = rep.text if getattr(args, "format", "text") == "text" else slider_facts(
+            deck, rep, scene)
+        return _finish(rep, text, output)
     rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False),
                      bearing_threshold=getattr(args, "bearing_threshold", None))
     text = (rep.text if getattr(args, "format", "text") == "text"
             else report_json(deck, rep, scene))
+    return _finish(rep, text, output)
+
+
+def _finish(rep: CheckReport, text: str, output: str | None) -> int:
+    """Write the report (atomically to ``output``, else stdout), the reason on stderr."""
+    import sys
+
+    from sielaff.tools.common import write_stdout
+
     if output not in (None, "-"):
         from sielaff.tools.output import atomic_output
 

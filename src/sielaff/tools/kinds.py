@@ -1,0 +1,108 @@
+"""What the commands share about positions and linkage kinds: the crank angles of a range
+card (exact, counted, rounded once), and a spec's linkage of another kind than the
+four-bar (a slider-crank, ...) checked as every command checks it."""
+
+from __future__ import annotations
+
+import sys
+from decimal import Decimal
+from fractions import Fraction
+
+import numpy as np
+
+from sielaff.emulator.cards import Deck
+from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER, CommandError
+
+__all__ = ["angles", "count", "exact_range", "other_kind", "turns_whole"]
+
+
+def exact_range(deck: Deck, i: int) -> tuple[Fraction, Fraction, Fraction]:
+    """Range card i as exact fractions.
+
+    The decimals punched on the card if the deck has them (``Deck.exact_ranges``);
+    for a deck built in code, each float's shortest decimal (0.1 means 1/10).
+    """
+    exact = getattr(deck, "exact_ranges", None) or []
+    if i < len(exact):
+        values = exact[i]
+    else:
+        values = tuple(Decimal(repr(float(v))) for v in deck.ranges[i])
+    return tuple(Fraction(v) for v in values)  # type: ignore[return-value]
+
+
+def count(thzero: Fraction, delta: Fraction, thmax: Fraction) -> int:
+    """Positions THZERO + k DELTA <= THMAX, k = 0, 1, ... (exact; DELTA > 0 unless empty)."""
+    if thzero > thmax:
+        return 0
+    if delta <= 0:
+        raise ValueError(f"DELTA = {float(delta):g} <= 0: the range never ends")
+    return int((thmax - thzero) // delta) + 1
+
+
+def angles(thzero: Fraction, delta: Fraction, start: int, stop: int) -> np.ndarray:
+    """THZERO + k DELTA for k in [start, stop), each the double nearest the exact value."""
+    k = np.arange(start, stop, dtype=np.int64)
+    # Both on a common decimal grid 10^-d: integers, then one correctly rounded division.
+    for d in range(0, 23):  # 10^d is an exact double up to 10^22
+        scale = 10**d
+        t0, dd = thzero * scale, delta * scale
+        if t0.denominator == 1 and dd.denominator == 1:
+            t0, dd = int(t0), int(dd)
+            if abs(t0) + abs(dd) * max(stop - 1, 0) < 2**53:
+                num = np.float64(t0) + np.float64(dd) * k.astype(np.float64)  # exact integers
+                return num / np.float64(scale)
+            break
+    # Otherwise (no short decimal grid, or huge counts): THZERO + k DELTA in doubles.
+    return float(thzero) + float(delta) * k.astype(np.float64)
+
+
+
+def other_kind(deck: Deck, scene: Scene, outputs=None, any_kind: bool = False) -> Deck:
+    """A spec's linkage of another kind than the four-bar (a slider-crank; the command
+    took its kind, :func:`read_spec_with`), checked: one whose crank cannot turn fully
+    is refused (exit 3) unless ``any_kind``,
+    where stderr says so and the positions where it cannot close are left out; results
+    past the IBM 1410's range over a revolution are refused (exit 2), as for a four-bar."""
+    import warnings
+
+    import numpy as np
+
+    from sielaff.engine import AssemblyWarning, analyze, model_for
+    from sielaff.quantities import unit
+
+    model = model_for(deck.mechanism)
+    failure = model.full_turn(deck.mechanism) if model.full_turn else None
+    if failure and not any_kind:
+        raise CommandError(f"{deck.path}: [lengths]: {failure}", EXIT_NOT_CRANK_ROCKER)
+    if failure:
+        print(f"sielaff: {deck.path}: {failure}; positions where it cannot close are left "
+              "out", file=sys.stderr)
+        warnings.filterwarnings("ignore", category=AssemblyWarning)
+        return deck
+    system = deck.mechanism.units
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", AssemblyWarning)
+        r = analyze(deck.mechanism, np.arange(0.0, 360.0, 1.0), outputs or model.results,
+                    scene=scene)
+    for name, v in r.items():
+        bad = ~np.isfinite(v) | (np.abs(v) >= 1e99)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise CommandError(f"{deck.path}: this linkage and its scene give {name} = "
+                               f"{float(v[i]):.3g} {unit(name, system)} at THETA 2 = {i} deg, "
+                               "past the IBM 1410's range (1E99) that every command keeps to")
+    return deck
+
+
+def turns_whole(mechanism) -> bool:
+    """Whether the commands work ``mechanism`` over whole revolutions: a crank-rocker, or
+    another kind's linkage whose crank turns fully (its model's ``full_turn``).  Every
+    other is worked only where it assembles."""
+    from sielaff.engine import model_for
+    from sielaff.mechanism import Mechanism, crank_rocker_failure
+
+    if isinstance(mechanism, Mechanism):
+        return crank_rocker_failure(mechanism) is None
+    model = model_for(mechanism)
+    return model.full_turn is None or model.full_turn(mechanism) is None
