@@ -11,7 +11,9 @@ read with ``ast``; nothing is imported.  docs/architecture.md draws the same lay
     design/                 design answers on the engine
     engine/   emulator/     the modern engine; the 1966 machine (neither imports the other)
     quantities              names, units, meanings
-    slider_crank            the slider-crank's fields (on mechanism's unit systems)
+    slider_crank, inverted_slider_crank, sixbar
+                            the other kinds' fields and topologies (on linkage)
+    linkage                 a crank and dyads: the topology and values of any linkage
     mechanism               the mechanism a deck describes
     version
 
@@ -83,8 +85,9 @@ def layer(name: str) -> float:
         return 3.5  # above the engine, below the tools
     if name.startswith(("sielaff.engine", "sielaff.emulator")):
         return 3
-    return {"sielaff.quantities": 2, "sielaff.slider_crank": 1.5, "sielaff.mechanism": 1,
-            "sielaff.version": 0}[name]
+    return {"sielaff.quantities": 2, "sielaff.slider_crank": 1.5,
+            "sielaff.inverted_slider_crank": 1.5, "sielaff.sixbar": 1.5,
+            "sielaff.linkage": 1.25, "sielaff.mechanism": 1, "sielaff.version": 0}[name]
 
 
 def group(name: str) -> str:

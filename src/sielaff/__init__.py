@@ -12,7 +12,11 @@ The public API, in one place (everything else is reached through its module):
   effects a scene calls for (docs/effects.md).
 * ``SliderCrank``, ``SLIDER_EXAMPLE``, ``SliderCrankScene``: the slider-crank
   (``sielaff.slider_crank``; docs/mechanisms.md), analysed by the same ``analyze`` with
-  its own Scene (gravity, loads, the slider force ``fex``, springs and dampers).
+  its own Scene (gravity, loads, the slider force ``fex``, springs and dampers);
+  ``InvertedSliderCrank``, ``WattII``, ``StephensonIII`` and their examples, and any
+  ``Linkage`` of a crank and dyads (``Topology``, ``Crank``, ``Pivot``, ``Point``,
+  ``Guide``, ``RRR``, ``RRP``, ``PRR``, ``RPR``; ``sielaff.linkage``);
+  ``scene_for(mechanism)`` is the Scene type of any of them.
 * ``linkage_class(mechanism)``: which four-bar it is (crank-rocker, double-crank, ...),
   its Grashof margin and the input's toggle limits (``sielaff.engine.classify``).
 * ``reachable(mechanism, n)``, ``point_motion(mechanism, ath2, link, r, angle)``: crank
@@ -32,9 +36,12 @@ from sielaff.emulator.cards import Deck, DeckError, read_deck
 from sielaff.mechanism import EXAMPLE, Mechanism
 from sielaff.version import __version__
 
-__all__ = ["EXAMPLE", "AssemblyWarning", "Damper", "Deck", "DeckError", "FrictionWarning",
-           "Load", "Mechanism", "Motor", "PinFriction", "Results", "SLIDER_EXAMPLE", "Scene",
-           "SliderCrank", "SliderCrankScene", "Spring",
+__all__ = ["EXAMPLE", "INVERTED_EXAMPLE", "PRR", "RPR", "RRP", "RRR",
+           "STEPHENSON_EXAMPLE", "WATT_EXAMPLE", "AssemblyWarning", "Crank", "Damper", "Deck",
+           "DeckError", "FrictionWarning", "Guide", "InvertedSliderCrank", "Linkage",
+           "Load", "Mechanism", "Motor", "PinFriction", "Pivot", "Point", "Results",
+           "SLIDER_EXAMPLE", "Scene", "SliderCrank", "SliderCrankScene", "Spring",
+           "StephensonIII", "Topology", "WattII", "scene_for",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
            "load_spec", "point_motion", "reachable", "read_deck", "simulate"]
 
@@ -75,6 +82,23 @@ def __getattr__(name: str):
         from sielaff import slider_crank
 
         return getattr(slider_crank, name)
+    if name in ("InvertedSliderCrank", "INVERTED_EXAMPLE"):
+        from sielaff import inverted_slider_crank
+
+        return getattr(inverted_slider_crank, name)
+    if name in ("WattII", "StephensonIII", "WATT_EXAMPLE", "STEPHENSON_EXAMPLE"):
+        from sielaff import sixbar
+
+        return getattr(sixbar, name)
+    if name in ("Linkage", "Topology", "Crank", "Pivot", "Point", "Guide", "RRR", "RRP",
+                "PRR", "RPR"):
+        from sielaff import linkage
+
+        return getattr(linkage, name)
+    if name == "scene_for":
+        from sielaff.engine import scene_for
+
+        return scene_for
     if name in ("flywheel", "balance", "bearings"):
         from sielaff import design
 

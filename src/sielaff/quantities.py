@@ -12,11 +12,14 @@ in pounds, time in seconds, angles printed in degrees, rates in radians.
 
 from __future__ import annotations
 
+from sielaff.inverted_slider_crank import InvertedSliderCrank
 from sielaff.mechanism import UNITS as FOURBAR_UNITS
+from sielaff.sixbar import WattII
 from sielaff.slider_crank import UNITS as SLIDER_UNITS
 
-#: Every mechanism field's unit (the four-bar's and the slider-crank's share their names).
-MECHANISM_UNITS = {**FOURBAR_UNITS, **SLIDER_UNITS}
+#: Every mechanism field's unit (the kinds share their names where they mean the same).
+MECHANISM_UNITS = {**FOURBAR_UNITS, **SLIDER_UNITS, **InvertedSliderCrank.UNITS,
+                   **WattII.UNITS}
 
 __all__ = ["CONVENTIONS", "G", "KINDS", "declare", "describe", "fmt", "unit", "unit_of"]
 
@@ -130,7 +133,7 @@ def unit(name: str, units: str = "in-lb-sec") -> str:
     system ``units`` (``"in-lb-sec"``, the report's, or ``"SI"``)."""
     if name in MECHANISM_UNITS:
         found = MECHANISM_UNITS[name]
-        if units == "SI" and name in ("W2", "W3", "W4"):
+        if units == "SI" and name[0] == "W" and name[1:].isdigit():
             return "kg"  # SI takes masses, not weights
     elif name == "CARD":
         found = "-"

@@ -30,9 +30,10 @@ from dataclasses import dataclass
 from dataclasses import replace as dataclasses_replace
 from typing import Any
 
+from sielaff.linkage import RRP, Crank, Guide, Topology
 from sielaff.mechanism import STANDARD_GRAVITY
 
-__all__ = ["FIELD_NAMES", "KIND", "SLIDER_EXAMPLE", "SPEC_NAMES", "UNITS", "SliderCrank",
+__all__ = ["FIELD_NAMES", "KIND", "TOPOLOGY", "SLIDER_EXAMPLE", "SPEC_NAMES", "UNITS", "SliderCrank",
            "Stroke", "full_turn_failure", "stroke", "validate_slider"]
 
 FIELD_NAMES = ("W2", "W3", "W4", "ZI2", "ZI3", "R2", "R3", "offset", "ADEL2", "ADEL3",
@@ -42,6 +43,13 @@ FIELD_NAMES = ("W2", "W3", "W4", "ZI2", "ZI3", "R2", "R3", "offset", "ADEL2", "A
 UNITS = {"W2": "lb", "W3": "lb", "W4": "lb", "ZI2": "in-lb-sec^2", "ZI3": "in-lb-sec^2",
          "R2": "in", "R3": "in", "offset": "in", "ADEL2": "deg", "ADEL3": "deg",
          "RG2": "in", "RG3": "in", "TH2D": "rad/sec"}
+
+#: The slider-crank as a linkage: the crank, then an RRP dyad (the rod A-B, link 3; the
+#: slider at B, link 4) on the frame's line y = offset along +x.  Its outputs keep the
+#: four-bar's names where they mean the same: FOA at O2.
+TOPOLOGY = Topology(crank=Crank("R2", "A"),
+                    dyads=(RRP("A", "B", "R3", Guide(1, "offset", 90.0, 0.0)),),
+                    names=(("FO2", "FOA"),), title="slider-crank")
 
 #: A spec's ``[linkage] kind`` for a slider-crank.
 KIND = "slider-crank"

@@ -136,6 +136,14 @@ from sielaff.quantities import G
 #: elements).
 SliderCrankScene = scene_of(SLIDER_CRANK)
 
+
+
+def scene_for(mechanism: object) -> type:
+    """The Scene type of ``mechanism``'s model (``Scene`` for a four-bar, the slider-crank's
+    ``SliderCrankScene``, ...): ``scene_for(m)(gravity="down")``."""
+    return scene_of(model_for(mechanism))
+
+
 #: How many times each step of the default model has run (by step name); tests reset it.
 STEP_CALLS = FOURBAR.calls
 #: The default model's steps.
@@ -146,6 +154,7 @@ __all__ = [
     "SLIDER_CRANK",
     "SliderCrankScene",
     "model_for",
+    "scene_for",
     "Effect",
     "Model",
     "Request",

@@ -14,6 +14,8 @@ import numpy as np
 from sielaff.engine.fourbar import FOURBAR
 from sielaff.engine.registry import Model
 from sielaff.engine.scene import Scene, SceneBase, scene_from
+from sielaff.engine.inverted_slider_crank import INVERTED_SLIDER_CRANK
+from sielaff.engine.sixbar import STEPHENSON, WATT, linkage_for
 from sielaff.engine.slider_crank import SLIDER_CRANK
 from sielaff.mechanism import EXAMPLE, Mechanism, validate
 
@@ -139,7 +141,7 @@ class Request:
 
 
 #: The models ``analyze`` knows, each for its type of mechanism (the first that fits).
-MODELS: list[Model] = [FOURBAR, SLIDER_CRANK]
+MODELS: list[Model] = [FOURBAR, SLIDER_CRANK, INVERTED_SLIDER_CRANK, WATT, STEPHENSON]
 
 
 def model_named(name: str) -> Model:
@@ -152,12 +154,18 @@ def model_named(name: str) -> Model:
 
 def model_for(mechanism: Any) -> Model:
     """The model of ``mechanism``: the registered one whose mechanism type it is (the
-    four-bar's for a :class:`~sielaff.mechanism.Mechanism`)."""
+    four-bar's for a :class:`~sielaff.mechanism.Mechanism`; a :class:`~sielaff.Linkage`'s
+    made from its topology)."""
+    from sielaff.linkage import Linkage
+
+    if isinstance(mechanism, Linkage):
+        return linkage_for(mechanism.topology)
     for model in MODELS:
         if model.mechanism is not None and isinstance(mechanism, model.mechanism):
             return model
     raise ValueError(f"no model analyses a {type(mechanism).__name__}: give a sielaff "
-                     "Mechanism or SliderCrank (or model=)")
+                     "Mechanism, SliderCrank, InvertedSliderCrank, WattII, StephensonIII or "
+                     "Linkage (or model=)")
 
 
 def prepare(mechanism: Mechanism, ath2: Any, outputs: Iterable[str] | str | None,

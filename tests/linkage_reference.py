@@ -1,0 +1,185 @@
+"""An independent solve of the inverted slider-crank and the two six-bars, in mpmath.
+
+Trusts nothing of the engine but its conventions (which assembly "open" is, which body
+each reported force acts on).  Positions from the textbook's angle forms (an RRR's link
+at the angle of P -> Q plus the law-of-cosines angle acos((lp^2 + d^2 - lq^2) / (2 lp d));
+the slotted link at the angle of O4 -> A less asin(e / |O4 A|)), worked in 40 digits;
+velocities and accelerations by differentiating those positions in time numerically
+(mpmath.diff, the crank angle th0 + w t + a t^2 / 2); forces from the Newton-Euler
+equations of each moving body about its own centre of mass, solved by mpmath.lu_solve.
+Points are complex numbers (x + iy).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mpmath as mp
+
+mp.mp.dps = 40
+
+G_IN = mp.mpf("386.088")  # in/sec^2, the report's g
+G_SI = mp.mpf("9.80665")
+
+
+def e(a):
+    return mp.expj(a)
+
+
+def rrr(P, Q, lp, lq, sign):
+    """C with |C - P| = lp, |C - Q| = lq, on the left of P -> Q for sign +1."""
+    d = abs(Q - P)
+    phi = mp.arg(Q - P) + sign * mp.acos((lp * lp + d * d - lq * lq) / (2 * lp * d))
+    return P + lp * e(phi)
+
+
+@dataclass
+class Body:
+    k: int
+    base: str  # the point its centre of mass is placed from
+    line: str  # the name of its line's angle
+    W: object
+    ZI: object
+    RG: object
+    ADEL: object  # degrees
+
+
+def f(x):
+    return mp.mpf(repr(float(x)))
+
+
+def geometry(kind, m, th2, branch=(1, 1)):
+    """Points (complex) and line angles (rad) at the crank angle th2 [rad] (mpf)."""
+    pts = {"O2": mp.mpc(0)}
+    ang = {"2": th2}
+    pts["A"] = f(m.R2) * e(th2)
+    if kind == "inverted":
+        O4 = mp.mpc(f(m.R1), 0)
+        pts["O4"] = O4
+        d = pts["A"] - O4
+        # A - O4 = s u + e u^: u at arg(d) - asin(e / |d|) with s > 0 (the open branch);
+        # with s < 0, -u has s > 0 and offset -e
+        sign = branch[0]
+        th4 = mp.arg(d) - sign * mp.asin(f(m.offset) / abs(d)) + (0 if sign > 0 else mp.pi)
+        ang["4"] = ang["3"] = th4
+        return pts, ang
+    O4 = mp.mpc(f(m.R1), 0)
+    pts["O4"], pts["O6"] = O4, mp.mpc(f(m.X6), f(m.Y6))
+    B = rrr(pts["A"], O4, f(m.R3), f(m.R4), branch[0])
+    pts["B"] = B
+    ang["3"], ang["4"] = mp.arg(B - pts["A"]), mp.arg(B - O4)
+    on, base = (4, "O4") if kind == "watt" else (3, "A")
+    pts["C"] = pts[base] + f(m.RC) * e(ang[str(on)] + mp.radians(f(m.ADELC)))
+    D = rrr(pts["C"], pts["O6"], f(m.R5), f(m.R6), branch[1])
+    pts["D"] = D
+    ang["5"], ang["6"] = mp.arg(D - pts["C"]), mp.arg(D - pts["O6"])
+    return pts, ang
+
+
+def bodies(kind, m):
+    def body(k, base):
+        get = lambda n: f(getattr(m, f"{n}{k}", 0.0))  # noqa: E731
+        return Body(k, base, str(k), get("W"), get("ZI"), get("RG"), get("ADEL"))
+    if kind == "inverted":
+        return [body(2, "O2"), body(3, "A"), body(4, "O4")]
+    return [body(2, "O2"), body(3, "A"), body(4, "O4"), body(5, "C"), body(6, "O6")]
+
+
+def pins(kind):
+    """(point, by, on): the force of body ``by`` on body ``on`` (1: the frame)."""
+    if kind == "inverted":
+        return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1)]
+    on = 4 if kind == "watt" else 3
+    return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1), ("B", 3, 4), ("C", 5, on),
+            ("O6", 6, 1), ("D", 5, 6)]
+
+
+def centre(b, pts, ang):
+    return pts[b.base] + b.RG * e(ang[b.line] + mp.radians(b.ADEL))
+
+
+def motion(kind, m, th0_deg, w, a=0.0, branch=(1, 1)):
+    """Value, first and second time derivative at t = 0 of every point and angle (and of
+    each body's centre of mass, as 'G<k>')."""
+    th0, w, a = mp.radians(f(th0_deg)), f(w), f(a)
+
+    def at(t):
+        pts, ang = geometry(kind, m, th0 + w * t + a * t * t / 2, branch)
+        for b in bodies(kind, m):
+            pts[f"G{b.k}"] = centre(b, pts, ang)
+        return pts, ang
+
+    pts, ang = at(mp.mpf(0))
+    out = {}
+    for name in pts:
+        out[name] = [mp.diff(lambda t, n=name: at(t)[0][n], 0, k) for k in range(3)]
+    for name in ang:
+        out["th" + name] = [mp.diff(lambda t, n=name: at(t)[1][n], 0, k) for k in range(3)]
+    return out
+
+
+def cross(a, b):
+    return a.real * b.imag - a.imag * b.real
+
+
+def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
+                 loads=(), units="in-lb-sec"):
+    """Every pin force (force of ``by`` on ``on``, complex), the slide's FN and MN (the
+    slotted link's force on the block along the slide's normal, and its couple) for the
+    inverted slider-crank, and TORQ.  ``loads``: (link, point (complex), force (complex),
+    torque) applied; gravity (gx, gy) in the units' length per sec^2."""
+    mo = motion(kind, m, th0_deg, w, a, branch)
+    g_div = G_IN if units == "in-lb-sec" else mp.mpf(1)
+    grav = mp.mpc(f(gravity[0]), f(gravity[1]))
+    bs = bodies(kind, m)
+    index = {b.k: i for i, b in enumerate(bs)}
+    unknowns = [(p, by, on) for p, by, on in pins(kind)]
+    n = 3 * len(bs)
+    cols = 2 * len(unknowns) + (2 if kind == "inverted" else 0) + 1
+    assert cols == n
+    A = mp.zeros(n, n)
+    rhs = mp.zeros(n, 1)
+
+    def put(col, k, force, at, couple=0):
+        if k == 1:
+            return
+        i = 3 * index[k]
+        G = mo[f"G{k}"][0]
+        A[i, col] += force.real
+        A[i + 1, col] += force.imag
+        A[i + 2, col] += cross(at - G, force) + couple
+
+    for c, (p, by, on) in enumerate(unknowns):
+        for j, unit in enumerate((mp.mpc(1, 0), mp.mpc(0, 1))):
+            put(2 * c + j, on, unit, mo[p][0])
+            put(2 * c + j, by, -unit, mo[p][0])
+    col = 2 * len(unknowns)
+    if kind == "inverted":
+        normal = e(mo["th4"][0] + mp.pi / 2)
+        put(col, 3, normal, mo["A"][0])
+        put(col, 4, -normal, mo["A"][0])
+        put(col + 1, 3, mp.mpc(0), mo["A"][0], 1)
+        put(col + 1, 4, mp.mpc(0), mo["A"][0], -1)
+        col += 2
+    A[3 * index[2] + 2, col] = 1  # the drive's torque on the crank
+    for b in bs:
+        i = 3 * index[b.k]
+        mass = b.W / g_div
+        G = mo[f"G{b.k}"]
+        force = mass * G[2] - mass * grav
+        moment = b.ZI * mo["th" + b.line][2]
+        for link, at, fo, tq in loads:
+            if link == b.k:
+                force -= mp.mpc(f(fo.real), f(fo.imag))
+                moment -= cross(mp.mpc(f(at.real), f(at.imag)) - G[0],
+                                mp.mpc(f(fo.real), f(fo.imag))) + f(tq)
+        rhs[i], rhs[i + 1], rhs[i + 2] = force.real, force.imag, moment
+    x = mp.lu_solve(A, rhs)
+    out = {}
+    for c, (p, by, on) in enumerate(unknowns):
+        out[(p, by, on)] = mp.mpc(x[2 * c], x[2 * c + 1])
+    if kind == "inverted":
+        out["FN"], out["MN"] = x[n - 3], x[n - 2]
+    out["TORQ"] = x[n - 1]
+    out["motion"] = mo
+    return out
