@@ -53,6 +53,13 @@ def geometry(kind, m, th2, branch=(1, 1)):
     pts = {"O2": mp.mpc(0)}
     ang = {"2": th2}
     pts["A"] = f(m.R2) * e(th2)
+    if kind == "slider":  # B on y = offset, right of A on the open branch
+        d = f(m.offset) - pts["A"].imag
+        root = branch[0] * mp.sqrt(f(m.R3) ** 2 - d * d)
+        pts["B"] = mp.mpc(pts["A"].real + root, f(m.offset))
+        ang["3"], ang["4"] = mp.arg(pts["B"] - pts["A"]), mp.mpf(0) * th2
+        ang["s"] = pts["B"].real  # the slide's position along +x
+        return pts, ang
     if kind == "inverted":
         O4 = mp.mpc(f(m.R1), 0)
         pts["O4"] = O4
@@ -62,6 +69,7 @@ def geometry(kind, m, th2, branch=(1, 1)):
         sign = branch[0]
         th4 = mp.arg(d) - sign * mp.asin(f(m.offset) / abs(d)) + (0 if sign > 0 else mp.pi)
         ang["4"] = ang["3"] = th4
+        ang["s"] = (d * mp.conj(e(th4))).real  # A's position along link 4 from O4's foot
         return pts, ang
     O4 = mp.mpc(f(m.R1), 0)
     pts["O4"], pts["O6"] = O4, mp.mpc(f(m.X6), f(m.Y6))
@@ -82,6 +90,8 @@ def bodies(kind, m):
         return Body(k, base, str(k), get("W"), get("ZI"), get("RG"), get("ADEL"))
     if kind == "inverted":
         return [body(2, "O2"), body(3, "A"), body(4, "O4")]
+    if kind == "slider":
+        return [body(2, "O2"), body(3, "A"), body(4, "B")]
     return [body(2, "O2"), body(3, "A"), body(4, "O4"), body(5, "C"), body(6, "O6")]
 
 
@@ -89,6 +99,8 @@ def pins(kind):
     """(point, by, on): the force of body ``by`` on body ``on`` (1: the frame)."""
     if kind == "inverted":
         return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1)]
+    if kind == "slider":
+        return [("O2", 2, 1), ("A", 3, 2), ("B", 3, 4)]
     on = 4 if kind == "watt" else 3
     return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1), ("B", 3, 4), ("C", 5, on),
             ("O6", 6, 1), ("D", 5, 6)]
@@ -122,20 +134,62 @@ def cross(a, b):
     return a.real * b.imag - a.imag * b.real
 
 
+def slide(kind):
+    """(slider, guide, point, the guide's direction's angle name) or None."""
+    return {"inverted": (3, 4, "A", "4"), "slider": (4, 1, "B", "4")}.get(kind)
+
+
 def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
-                 loads=(), units="in-lb-sec"):
+                 loads=(), units="in-lb-sec", mur=None, mu_slide=0.0):
     """Every pin force (force of ``by`` on ``on``, complex), the slide's FN and MN (the
-    slotted link's force on the block along the slide's normal, and its couple) for the
-    inverted slider-crank, and TORQ.  ``loads``: (link, point (complex), force (complex),
-    torque) applied; gravity (gx, gy) in the units' length per sec^2."""
+    guide's force on the slider along the guide's normal, +90 degrees from its line, and
+    its couple) where there is a slide, and TORQ.  ``loads``: (link, point (complex),
+    force (complex), torque) applied; gravity (gx, gy) in the units' length per sec^2;
+    ``mur``: {pin: mu r} Coulomb couples opposing each pin's relative rotation and
+    ``mu_slide`` a friction force mu |FN| opposing the slide, found by iterating the
+    solve to a fixed point (each iteration's couples from the last one's forces)."""
     mo = motion(kind, m, th0_deg, w, a, branch)
+    bs = bodies(kind, m)
+    friction: list = []
+    last = None
+    for _ in range(200):
+        out = _solve(kind, m, mo, bs, gravity, list(loads) + friction, units)
+        if not mur and not mu_slide:
+            break
+        friction = _friction_loads(kind, mo, out, mur or {}, mu_slide)
+        if last is not None and abs(out["TORQ"] - last) <= mp.mpf(10) ** -30 * (
+                1 + abs(last)):
+            break
+        last = out["TORQ"]
+    out["motion"] = mo
+    return out
+
+
+def _friction_loads(kind, mo, out, mur, mu_slide):
+    """The friction couples and the slide's friction force as applied loads."""
+    loads = []
+    w = {k: mo["th" + str(k)][1] for k in range(2, 7) if "th" + str(k) in mo}
+    w[1] = mp.mpf(0)
+    for (p, by, on), F in ((k, v) for k, v in out.items() if isinstance(k, tuple)):
+        c = f(mur.get(p, 0.0)) * abs(F) * mp.sign(w[by] - w[on])
+        loads += [(by, mp.mpc(0), mp.mpc(0), -c), (on, mp.mpc(0), mp.mpc(0), c)]
+    sl = slide(kind)
+    if sl and mu_slide:
+        slider, guide, point, line = sl
+        u = e(mo["th" + line][0])
+        force = -f(mu_slide) * abs(out["FN"]) * mp.sign(mo["ths"][1]) * u
+        loads += [(slider, mo[point][0], force, 0), (guide, mo[point][0], -force, 0)]
+    return loads
+
+
+def _solve(kind, m, mo, bs, gravity, loads, units):
     g_div = G_IN if units == "in-lb-sec" else mp.mpf(1)
     grav = mp.mpc(f(gravity[0]), f(gravity[1]))
-    bs = bodies(kind, m)
     index = {b.k: i for i, b in enumerate(bs)}
     unknowns = [(p, by, on) for p, by, on in pins(kind)]
+    sl = slide(kind)
     n = 3 * len(bs)
-    cols = 2 * len(unknowns) + (2 if kind == "inverted" else 0) + 1
+    cols = 2 * len(unknowns) + (2 if sl else 0) + 1
     assert cols == n
     A = mp.zeros(n, n)
     rhs = mp.zeros(n, 1)
@@ -154,12 +208,13 @@ def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
             put(2 * c + j, on, unit, mo[p][0])
             put(2 * c + j, by, -unit, mo[p][0])
     col = 2 * len(unknowns)
-    if kind == "inverted":
-        normal = e(mo["th4"][0] + mp.pi / 2)
-        put(col, 3, normal, mo["A"][0])
-        put(col, 4, -normal, mo["A"][0])
-        put(col + 1, 3, mp.mpc(0), mo["A"][0], 1)
-        put(col + 1, 4, mp.mpc(0), mo["A"][0], -1)
+    if sl:
+        slider, guide, point, line = sl
+        normal = e(mo["th" + line][0] + mp.pi / 2)
+        put(col, slider, normal, mo[point][0])
+        put(col, guide, -normal, mo[point][0])
+        put(col + 1, slider, mp.mpc(0), mo[point][0], 1)
+        put(col + 1, guide, mp.mpc(0), mo[point][0], -1)
         col += 2
     A[3 * index[2] + 2, col] = 1  # the drive's torque on the crank
     for b in bs:
@@ -170,16 +225,15 @@ def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
         moment = b.ZI * mo["th" + b.line][2]
         for link, at, fo, tq in loads:
             if link == b.k:
-                force -= mp.mpc(f(fo.real), f(fo.imag))
-                moment -= cross(mp.mpc(f(at.real), f(at.imag)) - G[0],
-                                mp.mpc(f(fo.real), f(fo.imag))) + f(tq)
+                fo = mp.mpc(fo)
+                force -= fo
+                moment -= cross(mp.mpc(at) - G[0], fo) + mp.mpf(tq)
         rhs[i], rhs[i + 1], rhs[i + 2] = force.real, force.imag, moment
     x = mp.lu_solve(A, rhs)
     out = {}
     for c, (p, by, on) in enumerate(unknowns):
         out[(p, by, on)] = mp.mpc(x[2 * c], x[2 * c + 1])
-    if kind == "inverted":
+    if sl:
         out["FN"], out["MN"] = x[n - 3], x[n - 2]
     out["TORQ"] = x[n - 1]
-    out["motion"] = mo
     return out

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.fourbar import FOURBAR
+from sielaff.engine.inverted_slider_crank import INVERTED_SLIDER_CRANK
 from sielaff.engine.registry import Model
 from sielaff.engine.scene import Scene, SceneBase, scene_from
-from sielaff.engine.inverted_slider_crank import INVERTED_SLIDER_CRANK
 from sielaff.engine.sixbar import STEPHENSON, WATT, linkage_for
 from sielaff.engine.slider_crank import SLIDER_CRANK
 from sielaff.mechanism import EXAMPLE, Mechanism, validate

@@ -58,6 +58,20 @@ PINS = ("O2", "A", "B", "O4")
 TOTALS = ("FA32X", "FA32Y", "FB34X", "FB34Y", "FOAX", "FOAY", "FOBX", "FOBY", "TORQ")
 
 
+#: What the friction outputs every model shares mean (one text each, for every model).
+MEANINGS = {
+    "TORQ_FRICTION": "the part of TORQ friction takes (TORQ with it less TORQ without)",
+    "FRICTION_ITERATIONS": "iterations of the friction solve (0 where it was not iterated)",
+    "FRICTION_STATUS": "friction: 0 solved, 1 a relative motion is zero, 2 no solution "
+                       "(self-locking, NaN), 3 a solution not reached from mu = 0",
+}
+
+
+def loss_meaning(joint: str) -> str:
+    """What ``PLOSS_<joint>`` means."""
+    return f"power friction loses at {joint}, >= 0"
+
+
 class FrictionWarning(UserWarning):
     """Some positions' pin friction did not converge: their results are NaN."""
 
@@ -406,16 +420,10 @@ EFFECT = Effect("pin friction", (step_of(_friction), step_of(_friction_solutions
                               "one :class:`~sielaff.engine.friction.PinFriction`\n    for all "
                               'four, or ``{"O2": ..., "A": ..., "B": ..., "O4": ...}`` (a pin '
                               "left out\n    has none)."),),
-                outputs={"TORQ_FRICTION": ("torque", "the part of TORQ pin friction takes "
-                                                     "(TORQ with it less TORQ without)"),
-                         **{f"PLOSS_{pin}": ("power", f"power pin friction loses at {pin}, >= 0")
-                            for pin in PINS},
-                         "FRICTION_ITERATIONS": ("number",
-                                                 "iterations of the pin-friction fixed point"),
-                         "FRICTION_STATUS": ("number", "pin friction: 0 solved, 1 a relative "
-                                                       "rotation is zero, 2 no solution "
-                                                       "(self-locking, NaN), 3 a solution not "
-                                                       "reached from mu = 0"),
+                outputs={"TORQ_FRICTION": ("torque", MEANINGS["TORQ_FRICTION"]),
+                         **{f"PLOSS_{pin}": ("power", loss_meaning(pin)) for pin in PINS},
+                         "FRICTION_ITERATIONS": ("number", MEANINGS["FRICTION_ITERATIONS"]),
+                         "FRICTION_STATUS": ("number", MEANINGS["FRICTION_STATUS"]),
                          "FRICTION_SOLUTIONS": ("number", "how many solutions the friction "
                                                           "law has at the position")},
                 on=has_friction, summary=lambda scene, units: "pin friction",

@@ -3,7 +3,7 @@ crank, an RPR dyad: the block at A sliding along link 4 about O4) and one line p
 
 from __future__ import annotations
 
-from sielaff.engine.linkage_model import finish, kind_model
+from sielaff.engine.linkage_model import finish, friction_effect, kind_model
 from sielaff.inverted_slider_crank import InvertedSliderCrank, full_turn_failure
 
 __all__ = ["INVERTED_RESULTS", "INVERTED_SLIDER_CRANK"]
@@ -21,4 +21,5 @@ INVERTED_SLIDER_CRANK = kind_model(InvertedSliderCrank, full_turn=full_turn_fail
 INVERTED_SLIDER_CRANK.add_effect("gravity")
 INVERTED_SLIDER_CRANK.add_effect("loads")
 INVERTED_SLIDER_CRANK.add_effect("elements")
+INVERTED_SLIDER_CRANK.add_effect(friction_effect(INVERTED_SLIDER_CRANK))
 finish(INVERTED_SLIDER_CRANK)

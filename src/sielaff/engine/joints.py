@@ -25,7 +25,8 @@ import numpy as np
 from sielaff.engine.dyads import Positions
 from sielaff.linkage import PRR, RRP, RRR, Topology
 
-__all__ = ["Joint", "Slide", "joints", "owner", "solve", "slots"]
+__all__ = ["Joint", "Slide", "joints", "load_rows", "matrix", "owner", "solve", "slots",
+           "unscale"]
 
 
 @dataclass(frozen=True)
@@ -103,17 +104,17 @@ def slots(topology: Topology) -> tuple[str, ...]:
 _NONE = (0.0, 0.0, 0.0)
 
 
-def solve(topology: Topology, loads: dict[int, tuple[Any, Any, Any]],
-          pos: Positions) -> tuple[Any, ...]:
-    """The slots (:func:`slots`) for the applied ``loads`` at the positions ``pos``."""
+def matrix(topology: Topology, pos: Positions, shape: tuple[int, ...] = ()
+           ) -> tuple[np.ndarray, float]:
+    """The system's matrix at the positions ``pos`` (of shape ``shape`` at least) and the
+    length scale L its moment rows are divided by (couples and TORQ are solved in it)."""
     pins, slides = joints(topology)
     links = topology.links
     size = 3 * (links - 1)
-    shape = np.broadcast_shapes(*(np.shape(x) for link in pos.link.values() for x in link),
-                                *(np.shape(x) for f in loads.values() for x in f))
+    shape = np.broadcast_shapes(shape, *(np.shape(x) for link in pos.link.values()
+                                         for x in link))
     L = pos.scale if pos.scale > 0.0 else 1.0
     A = np.zeros(shape + (size, size))
-    b = np.zeros(shape + (size,))
 
     def add_force(col: int, k: int, fx: Any, fy: Any, at: tuple[Any, Any], sign: float,
                   couple: Any = 0.0) -> None:
@@ -143,19 +144,40 @@ def solve(topology: Topology, loads: dict[int, tuple[Any, Any, Any]],
         add_force(col + 1, s.guide, 0.0, 0.0, at, -1.0, 1.0)
         col += 2
     A[..., 2, col] += 1.0  # the drive's torque on the crank (link 2's moment row)
-    for k in range(2, links + 1):
+    return A, L
+
+
+def load_rows(topology: Topology, loads: dict[int, tuple[Any, Any, Any]], L: float,
+              shape: tuple[int, ...]) -> np.ndarray:
+    """The applied loads as the system's rows (force x, y and moment / L per link)."""
+    b = np.zeros(shape + (3 * (topology.links - 1),))
+    for k in range(2, topology.links + 1):
         fx, fy, m = loads.get(k, _NONE)
         row = 3 * (k - 2)
-        b[..., row] -= fx
-        b[..., row + 1] -= fy
-        b[..., row + 2] -= np.asarray(m) / L
-    x = _solve(A, b)
-    out = [x[..., i] for i in range(size)]
+        b[..., row] += fx
+        b[..., row + 1] += fy
+        b[..., row + 2] += np.asarray(m) / L
+    return b
+
+
+def unscale(topology: Topology, x: np.ndarray, L: float) -> tuple[Any, ...]:
+    """The slots from the solved unknowns: the couples and TORQ back from scale L."""
+    pins, slides = joints(topology)
+    out = [x[..., i] for i in range(x.shape[-1])]
     n_pin = 2 * len(pins)
     for i in range(n_pin + 1, n_pin + 2 * len(slides), 2):  # the couples and TORQ: in scale
         out[i] = out[i] * L
     out[-1] = out[-1] * L
     return tuple(out)
+
+
+def solve(topology: Topology, loads: dict[int, tuple[Any, Any, Any]],
+          pos: Positions) -> tuple[Any, ...]:
+    """The slots (:func:`slots`) for the applied ``loads`` at the positions ``pos``."""
+    shape = np.broadcast_shapes(*(np.shape(x) for f in loads.values() for x in f))
+    A, L = matrix(topology, pos, shape)
+    b = load_rows(topology, loads, L, A.shape[:-2])
+    return unscale(topology, _solve(A, -b), L)
 
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -29,7 +29,7 @@ from sielaff.engine.registry import Model, Step, step_of
 from sielaff.linkage import RPR, RRR, Topology
 from sielaff.mechanism import MASS_DIVISOR
 
-__all__ = ["BRANCHES", "finish", "kind_model", "linkage_model"]
+__all__ = ["BRANCHES", "finish", "friction_effect", "kind_model", "linkage_model"]
 
 #: Each dyad's assembly: "open" (+1) or "crossed" (-1) (sielaff.linkage says which is which).
 BRANCHES = ("open", "crossed")
@@ -312,6 +312,15 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
     model.add(step_of(_crank_angle), step_of(_crank_acceleration), b.steps)
     model.topology = topology  # type: ignore[attr-defined]
     return model
+
+
+def friction_effect(model: Model) -> Any:
+    """The joint-friction effect of ``model``'s pins and slides (engine/joint_friction.py),
+    with the model's names of its totals."""
+    from sielaff.engine.joint_friction import effect
+
+    topology: Topology = model.topology  # type: ignore[attr-defined]
+    return effect(topology, _renamer(topology))
 
 
 def finish(model: Model) -> Model:

@@ -3,7 +3,7 @@ the linkage engine's steps for their topologies and one line per effect."""
 
 from __future__ import annotations
 
-from sielaff.engine.linkage_model import finish, kind_model
+from sielaff.engine.linkage_model import finish, friction_effect, kind_model
 from sielaff.engine.registry import Model
 from sielaff.linkage import Linkage, Topology
 from sielaff.sixbar import StephensonIII, WattII
@@ -25,6 +25,7 @@ def _effects(model: Model) -> Model:
     model.add_effect("gravity")
     model.add_effect("loads")
     model.add_effect("elements")
+    model.add_effect(friction_effect(model))
     return finish(model)
 
 

@@ -18,7 +18,7 @@ default outputs.  The closed forms they agree with, the textbook's
 
 from __future__ import annotations
 
-from sielaff.engine.linkage_model import finish, linkage_model
+from sielaff.engine.linkage_model import finish, friction_effect, linkage_model
 from sielaff.engine.registry import Step
 from sielaff.quantities import declare
 from sielaff.slider_crank import TOPOLOGY, SliderCrank, full_turn_failure, validate_slider
@@ -56,4 +56,5 @@ SLIDER_CRANK.add_effect("gravity")
 SLIDER_CRANK.add_effect("loads")
 SLIDER_CRANK.add_effect("slider_force")
 SLIDER_CRANK.add_effect("elements")
+SLIDER_CRANK.add_effect(friction_effect(SLIDER_CRANK))
 finish(SLIDER_CRANK)

@@ -1,0 +1,175 @@
+"""Coulomb friction in the pins and slides of the linkage engine's kinds
+(engine/joint_friction.py) against an independent fixed-point Newton-Euler solve in 40
+digits (tests/linkage_reference.py), the power balance (the drive's power is the kinetic
+energy's rate plus every joint's loss), and what friction that is off costs (nothing)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import linkage_reference as ref
+from sielaff import (
+    INVERTED_EXAMPLE,
+    SLIDER_EXAMPLE,
+    STEPHENSON_EXAMPLE,
+    WATT_EXAMPLE,
+    FrictionWarning,
+    PinFriction,
+    analyze,
+    scene_for,
+)
+from sielaff.engine import model_for
+
+CASES = [("slider", SLIDER_EXAMPLE.replace(offset=0.6, ADEL3=8.0, TH2D=60.0)),
+         ("inverted", INVERTED_EXAMPLE.replace(offset=0.8)),
+         ("watt", WATT_EXAMPLE.replace(TH2D=20.0)),
+         ("stephenson", STEPHENSON_EXAMPLE.replace(TH2D=20.0))]
+
+#: Each pin's mu r [in], the slide's mu: different at each joint, so a joint mixed up fails.
+MUR = {"O2": 0.02, "A": 0.03, "B": 0.025, "O4": 0.035, "C": 0.015, "D": 0.04, "O6": 0.01}
+MU_SLIDE = 0.12
+
+
+def _scene(m, gravity="down"):
+    friction = {p: PinFriction(mur / 0.5, 0.5) for p, mur in MUR.items()
+                if p in _pins(m)}
+    if "slide" in _joints(m):
+        friction["slide"] = PinFriction(MU_SLIDE, 0.0)
+    return scene_for(m)(gravity=gravity, th2dd=-15.0, friction=friction)
+
+
+def _joints(m):
+    from sielaff.engine.joint_friction import _names
+
+    return _names(model_for(m).topology)[2]
+
+
+def _pins(m):
+    return [j for j in _joints(m) if not j.startswith("slide")]
+
+
+def _force_name(m, p, by, on):
+    names = dict(model_for(m).topology.names)
+    generic = f"F{p}" if on == 1 else f"F{p}{by}{on}"
+    return names.get(generic, generic)
+
+
+@pytest.mark.parametrize("case", range(len(CASES)))
+def test_friction_is_the_independent_fixed_point(case):
+    kind, m = CASES[case]
+    compared = 0
+    for th in (23.0, 141.0, 262.0):
+        r = analyze(m, [th], model_for(m).outputs, scene=_scene(m))
+        assert r["FRICTION_STATUS"][0] == 0.0
+        out = ref.newton_euler(kind, m, th, m.TH2D, -15.0, branch=(1, 1),
+                               gravity=(0.0, -386.088),
+                               mur={p: MUR[p] for p in _pins(m)},
+                               mu_slide=MU_SLIDE if "slide" in _joints(m) else 0.0)
+        scale = max(abs(complex(v)) for k, v in out.items() if isinstance(k, tuple))
+        tscale = abs(float(out["TORQ"])) + 1.0
+        assert float(r["TORQ"][0]) == pytest.approx(float(out["TORQ"]), abs=1e-10 * tscale)
+        for key, F in out.items():
+            if isinstance(key, tuple):
+                name = _force_name(m, *key)
+                assert float(r[name + "X"][0]) == pytest.approx(float(F.real), abs=1e-10 * scale)
+                assert float(r[name + "Y"][0]) == pytest.approx(float(F.imag), abs=1e-10 * scale)
+                compared += 1
+        if "FN" in out:
+            assert float(r["FN"][0]) == pytest.approx(float(out["FN"]), abs=1e-10 * scale)
+            assert float(r["MN"][0]) == pytest.approx(float(out["MN"]), abs=1e-10 * tscale)
+    assert compared == 3 * len(ref.pins(kind))
+    # and friction did something: TORQ moved by more than the tolerance
+    assert np.max(np.abs(analyze(m, [23.0, 141.0], ["TORQ_FRICTION"],
+                                 scene=_scene(m))["TORQ_FRICTION"])) > 1e-3 * tscale
+
+
+@pytest.mark.parametrize("case", range(len(CASES)))
+def test_the_drive_power_is_the_energy_rate_plus_the_losses(case):
+    """TORQ TH2D = d(kinetic energy)/dt + sum of the joints' losses (no gravity: nothing
+    else works on the linkage), on the engine's own rates: an identity the friction
+    solve must satisfy, whatever the law's signs."""
+    kind, m = CASES[case]
+    th = np.arange(1.0, 360.0, 7.0)
+    model = model_for(m)
+    r = analyze(m, th, model.outputs, scene=_scene(m, gravity=None))
+    losses = sum(r[n] for n in model.outputs if n.startswith("PLOSS_"))
+    assert np.all(losses >= 0.0)
+    ke = 0.0
+    for k in range(2, model.topology.links + 1):
+        mass = float(getattr(m, f"W{k}", 0.0)) / 386.088
+        ke = ke + mass * (r[f"AG{k}X"] * r[f"VG{k}X"] + r[f"AG{k}Y"] * r[f"VG{k}Y"])
+        zi = float(getattr(m, f"ZI{k}", 0.0))
+        ke = ke + zi * (r[f"TH{k}DD"] * r[f"TH{k}D"] if k > 2 else -15.0 * m.TH2D)
+    power = r["TORQ"] * m.TH2D
+    ok = r["FRICTION_STATUS"] == 0.0
+    assert ok.sum() >= th.size - 2
+    np.testing.assert_allclose(power[ok], (ke + losses)[ok], rtol=0,
+                               atol=1e-10 * np.max(np.abs(power)))
+
+
+def test_friction_that_is_off_costs_nothing():
+    m = WATT_EXAMPLE
+    model = model_for(m)
+    th = np.arange(0.0, 360.0, 10.0)
+    plain = analyze(m, th, model.results, gravity="down")
+    model.calls.clear()
+    off = analyze(m, th, model.results,
+                  scene=scene_for(m)(gravity="down", friction=PinFriction(0.0, 1.0)))
+    assert "_joint_friction" not in model.calls
+    for name in plain:
+        np.testing.assert_array_equal(plain[name], off[name])
+
+
+def _slide_solutions(m, th, mu, fex):
+    """How many solutions the slide's friction law has (no pin friction), counted exactly:
+    the guide's friction force phi along +x on the slider is affine in FN (superposition,
+    the independent solve at phi = 0 and 1), and phi = -mu |FN| sgn(VXB) has, for each sign
+    s of FN, the one candidate FN = FN0 / (1 + k mu sgn(VXB) s), a solution if its sign is
+    s."""
+    import mpmath as mp
+
+    mo = ref.motion("slider", m, th, m.TH2D)
+    bs = ref.bodies("slider", m)
+    pts = mo["B"][0]
+
+    def fn(phi):
+        loads = [(4, pts, mp.mpc(phi, 0), 0), (4, pts, mp.mpc(fex, 0), 0)]
+        return ref._solve("slider", m, mo, bs, (0.0, 0.0), loads, "in-lb-sec")["FN"]
+
+    fn0 = fn(0)
+    k = fn(1) - fn0
+    v = mp.sign(mo["ths"][1])
+    count = 0
+    for s in (1, -1):
+        cand = fn0 / (1 + k * mu * v * s)
+        count += int(mp.sign(cand) == s)
+    return count
+
+
+def test_a_slide_that_locks_is_nan_and_said_so():
+    """A slider-crank with mu = 5 at its guide and a gas force: where the rod's thrust lies
+    inside the friction cone the law has no solution (self-locking).  The engine's status
+    2 is exactly where an exact count of the law's solutions is 0; elsewhere it solves."""
+    m = SLIDER_EXAMPLE.replace(TH2D=40.0)
+    th = np.arange(1.0, 360.0, 4.0)
+    sc = scene_for(m)(friction={"slide": PinFriction(5.0, 0.0)}, fex=-500.0)
+    with pytest.warns(FrictionWarning, match="reach no solution"):
+        r = analyze(m, th, ["TORQ", "FRICTION_STATUS"], scene=sc)
+    locked = r["FRICTION_STATUS"] == 2.0
+    counts = np.array([_slide_solutions(m, t, 5.0, -500.0) for t in th])
+    assert 0 < locked.sum() < th.size
+    np.testing.assert_array_equal(locked, counts == 0)
+    assert np.all(np.isnan(r["TORQ"][locked])) and np.all(np.isfinite(r["TORQ"][~locked]))
+
+
+def test_a_friction_mapping_names_the_joints():
+    with pytest.raises(ValueError, match="unknown joint 'Q'.*joints: O2, A, B, slide"):
+        scene_for(SLIDER_EXAMPLE)(friction={"Q": PinFriction(0.1, 0.1)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = analyze(SLIDER_EXAMPLE, [30.0], ["PLOSS_A", "PLOSS_S", "PLOSS_O2"],
+                    scene=scene_for(SLIDER_EXAMPLE)(friction={"A": PinFriction(0.1, 0.2)}))
+    assert r["PLOSS_A"][0] > 0.0 and r["PLOSS_S"][0] == 0.0 and r["PLOSS_O2"][0] == 0.0
