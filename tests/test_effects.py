@@ -248,8 +248,10 @@ def test_callables_and_arrays_for_every_effect():
     b = analyze(EXAMPLE, th, ["TORQ"], th2dd=0.1 * th,
                 loads=[Load(3, r=8.0, fx=np.cos(np.radians(th)))])
     np.testing.assert_array_equal(a["TORQ"], b["TORQ"])
-    with pytest.raises(ValueError, match="link 2, 3 or 4"):
-        Load(5)
+    with pytest.raises(ValueError, match="a moving link, 2"):
+        Load(1)  # the frame: no load to carry
+    with pytest.raises(ValueError, match="this linkage's moving links are 2 to 4"):
+        analyze(EXAMPLE, th, loads=[Load(5)])  # a six-bar's link, not the four-bar's
     with pytest.raises(ValueError, match="gravity"):
         analyze(EXAMPLE, th, gravity=3.0)
     with pytest.raises(ValueError, match="is not a sielaff.Load"):

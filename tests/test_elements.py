@@ -153,7 +153,10 @@ def test_no_elements_is_the_1966_engine_bit_for_bit_and_runs_no_element_step():
 
 
 @pytest.mark.parametrize("bad, words", [
-    (lambda: Spring((5, 1, 0), (2, 1, 0), 1.0, 1.0), "Spring.a link"),
+    (lambda: Spring((0, 1, 0), (2, 1, 0), 1.0, 1.0), "Spring.a link"),
+    (lambda: analyze(EXAMPLE, [10.0],
+                     scene=Scene(elements=[Spring((5, 1, 0), (2, 1, 0), 1.0, 1.0)])),
+     "point on link 5: this linkage's links are 1 (the frame) to 4"),
     (lambda: Spring((1, 1, 0), (2, float("nan"), 0), 1.0, 1.0), "Spring.b r"),
     (lambda: Spring((1, 1, 0), (2, 1, 0), 1.0, -1.0), "Spring.length"),
     (lambda: Damper((1, 1), (2, 1, 0), 1.0), "Damper.a"),

@@ -41,7 +41,7 @@ __all__ = ["EXAMPLE", "INVERTED_EXAMPLE", "PRR", "RPR", "RRP", "RRR",
            "DeckError", "FrictionWarning", "Guide", "InvertedSliderCrank", "Linkage",
            "Load", "Mechanism", "Motor", "PinFriction", "Pivot", "Point", "Results",
            "SLIDER_EXAMPLE", "Scene", "SliderCrank", "SliderCrankScene", "Spring",
-           "StephensonIII", "Topology", "WattII", "scene_for",
+           "StephensonIII", "Topology", "WattII", "scene_for", "slider_balance",
            "__version__", "analyze", "balance", "bearings", "flywheel", "linkage_class",
            "load_spec", "point_motion", "reachable", "read_deck", "simulate"]
 
@@ -51,14 +51,15 @@ def load_spec(path: str):
     read it: a ``Spec`` with ``mechanism`` (in its unit system), ``scene``, ``ranges``
     ((THZERO, DELTA, THMAX) per range card, deg) and ``motor`` (``[motor]`` read as
     ``simulate`` reads it: Motor, flywheel, revolutions, steady, speed, method, rtol; None
-    without one).  A ``[linkage] kind = "slider-crank"`` spec gives a ``SliderCrank`` and a
-    ``SliderCrankScene``.
+    without one).  A spec of another ``[linkage] kind`` gives that kind (a ``SliderCrank``,
+    an ``InvertedSliderCrank``, a ``WattII``, a ``StephensonIII``) and its Scene.
     A spec that cannot be read is a ValueError in one line naming the file and key."""
     from sielaff.tools.common import CommandError, read_spec, read_spec_deck
+    from sielaff.tools.kinds import other_kinds
     from sielaff.tools.spec import PunchError, Spec
 
     try:
-        deck, scene = read_spec_deck(path, ("slider-crank",))
+        deck, scene = read_spec_deck(path, other_kinds())
         spec = read_spec(path)
         motor = None
         if "motor" in spec:
@@ -99,7 +100,7 @@ def __getattr__(name: str):
         from sielaff.engine import scene_for
 
         return scene_for
-    if name in ("flywheel", "balance", "bearings"):
+    if name in ("flywheel", "balance", "bearings", "slider_balance"):
         from sielaff import design
 
         return getattr(design, name)

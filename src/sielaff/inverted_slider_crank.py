@@ -65,7 +65,7 @@ class InvertedSliderCrank(Kind):
     TOPOLOGY: ClassVar[Topology] = Topology(
         pivots=(Pivot("O4", "R1", 0.0),), crank=Crank("R2", "A"),
         dyads=(RPR("A", "O4", "offset"),), names=(("FO2", "FOA"), ("FO4", "FOB")),
-        title="inverted slider-crank")
+        title="inverted slider-crank", link_names=("frame", "crank", "block", "lever"))
     KIND: ClassVar[str] = "inverted-slider-crank"
     UNITS: ClassVar[dict[str, str]] = {
         "W2": "lb", "W3": "lb", "W4": "lb", "ZI2": "in-lb-sec^2", "ZI3": "in-lb-sec^2",
@@ -73,6 +73,16 @@ class InvertedSliderCrank(Kind):
         "ADEL3": "deg", "ADEL4": "deg", "RG2": "in", "RG3": "in", "RG4": "in",
         "TH2D": "rad/sec"}
     POSITIVE: ClassVar[tuple[str, ...]] = ("R1",)
+    SPEC_NAMES: ClassVar[dict[tuple[str, str, str | None], str]] = {
+        **{("weights", n, None): f"W{k}" for k, n in ((2, "crank"), (3, "block"), (4, "lever"))},
+        **{("inertia", n, None): f"ZI{k}" for k, n in ((2, "crank"), (3, "block"),
+                                                       (4, "lever"))},
+        ("lengths", "frame", None): "R1", ("lengths", "crank", None): "R2",
+        ("lengths", "offset", None): "offset",
+        **{("mass_centres", n, sub): f"{field}{k}"
+           for k, n in ((2, "crank"), (3, "block"), (4, "lever"))
+           for sub, field in (("distance", "RG"), ("angle", "ADEL"))},
+        ("drive", "speed", None): "TH2D"}
 
 
 #: A crank-shaper: a 4 in crank 10 in from the slotted lever's pivot, a 24 in lever.

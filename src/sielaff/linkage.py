@@ -161,6 +161,13 @@ class Topology:
     points: tuple[Point, ...] = ()
     names: tuple[tuple[str, str], ...] = ()
     title: str = "linkage"
+    #: each link's name, the frame's first ("frame", "crank", ...; default "link k")
+    link_names: tuple[str, ...] = ()
+
+    def link_name(self, k: int) -> str:
+        """Link k's name (1 the frame)."""
+        return self.link_names[k - 1] if k <= len(self.link_names) else \
+            "frame" if k == 1 else "crank" if k == 2 else f"link{k}"
 
     @property
     def links(self) -> int:
@@ -241,6 +248,8 @@ class Kind:
     TOPOLOGY: ClassVar[Topology]
     KIND: ClassVar[str]
     UNITS: ClassVar[dict[str, str]]
+    #: where a spec gives each field: (table, key, sub-key or None) -> field
+    SPEC_NAMES: ClassVar[dict[tuple[str, str, str | None], str]]
     POSITIVE: ClassVar[tuple[str, ...]] = ()
     units: str
 

@@ -45,12 +45,16 @@ for _k in range(2, 7):
                    f"ADEL{_k}": "deg"})
 
 
+_LINKS = ("frame", "crank", "coupler", "rocker", "link5", "link6")
+
+
 def _topology(on: int, title: str) -> Topology:
     return Topology(pivots=(Pivot("O4", "R1", 0.0), Pivot("O6", "X6", "Y6")),
                     crank=Crank("R2", "A"),
                     dyads=(RRR("A", "O4", "B", "R3", "R4"), RRR("C", "O6", "D", "R5", "R6")),
                     points=(Point("C", on, "RC", "ADELC"),),
-                    names=(("FO2", "FOA"), ("FO4", "FOB")), title=title)
+                    names=(("FO2", "FOA"), ("FO4", "FOB")), title=title,
+                    link_names=_LINKS)
 
 
 @dataclass(frozen=True)
@@ -90,6 +94,16 @@ class _SixBar(Kind):
 
     UNITS: ClassVar[dict[str, str]] = _UNITS
     POSITIVE: ClassVar[tuple[str, ...]] = ("R1",)
+    SPEC_NAMES: ClassVar[dict[tuple[str, str, str | None], str]] = {
+        **{("weights", n, None): f"W{k}" for k, n in enumerate(_LINKS[1:], 2)},
+        **{("inertia", n, None): f"ZI{k}" for k, n in enumerate(_LINKS[1:], 2)},
+        ("lengths", "frame", None): "R1",
+        **{("lengths", n, None): f"R{k}" for k, n in enumerate(_LINKS[1:], 2)},
+        ("points", "C", "distance"): "RC", ("points", "C", "angle"): "ADELC",
+        ("pivots", "O6", "x"): "X6", ("pivots", "O6", "y"): "Y6",
+        **{("mass_centres", n, sub): f"{field}{k}" for k, n in enumerate(_LINKS[1:], 2)
+           for sub, field in (("distance", "RG"), ("angle", "ADEL"))},
+        ("drive", "speed", None): "TH2D"}
 
 
 @dataclass(frozen=True)

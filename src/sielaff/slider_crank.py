@@ -33,8 +33,8 @@ from typing import Any
 from sielaff.linkage import RRP, Crank, Guide, Topology
 from sielaff.mechanism import STANDARD_GRAVITY
 
-__all__ = ["FIELD_NAMES", "KIND", "TOPOLOGY", "SLIDER_EXAMPLE", "SPEC_NAMES", "UNITS", "SliderCrank",
-           "Stroke", "full_turn_failure", "stroke", "validate_slider"]
+__all__ = ["FIELD_NAMES", "KIND", "SLIDER_EXAMPLE", "SPEC_NAMES", "TOPOLOGY", "UNITS",
+           "SliderCrank", "Stroke", "full_turn_failure", "stroke", "validate_slider"]
 
 FIELD_NAMES = ("W2", "W3", "W4", "ZI2", "ZI3", "R2", "R3", "offset", "ADEL2", "ADEL3",
                "RG2", "RG3", "TH2D")
@@ -49,7 +49,8 @@ UNITS = {"W2": "lb", "W3": "lb", "W4": "lb", "ZI2": "in-lb-sec^2", "ZI3": "in-lb
 #: four-bar's names where they mean the same: FOA at O2.
 TOPOLOGY = Topology(crank=Crank("R2", "A"),
                     dyads=(RRP("A", "B", "R3", Guide(1, "offset", 90.0, 0.0)),),
-                    names=(("FO2", "FOA"),), title="slider-crank")
+                    names=(("FO2", "FOA"),), title="slider-crank",
+                    link_names=("frame", "crank", "rod", "slider"))
 
 #: A spec's ``[linkage] kind`` for a slider-crank.
 KIND = "slider-crank"
@@ -107,6 +108,13 @@ class SliderCrank:
     def as_dict(self) -> dict[str, Any]:
         """The fields by name (not the unit system)."""
         return {n: getattr(self, n) for n in FIELD_NAMES}
+
+
+# what every kind declares (sielaff.linkage.Kind), for the tools that enumerate them
+SliderCrank.TOPOLOGY = TOPOLOGY  # type: ignore[attr-defined]
+SliderCrank.KIND = KIND  # type: ignore[attr-defined]
+SliderCrank.UNITS = UNITS  # type: ignore[attr-defined]
+SliderCrank.SPEC_NAMES = SPEC_NAMES  # type: ignore[attr-defined]
 
 
 #: An engine-sized example: a 2 in crank, an 8 in rod (ratio 4), no offset, 3000 rpm

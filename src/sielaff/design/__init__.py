@@ -13,6 +13,13 @@ the flywheel that a driving torque which changes sign calls for.
 * :mod:`~sielaff.design.sweep`     grids of designs, in process or on dask
 * :mod:`~sielaff.design.tolerance` Monte Carlo of manufacturing deviations, with
   first-order sensitivities
+* :mod:`~sielaff.design.slider_balance` a slider-crank's crank counterweight and the
+  primary and secondary shaking force it leaves
+* :mod:`~sielaff.design.kinds`     what the answers ask of a kind other than the four-bar
+
+Every answer works on every kind the engine analyses (the slider-crank, the inverted
+slider-crank, the six-bars, any ``Linkage``) but Berkof-Lowen balancing, which is the
+four-bar's and refuses the others in one line.
 
 This layer imports the engine, ``quantities`` and ``mechanism``; the commands in
 ``tools/`` import it (docs/architecture.md).  Equations and checks: docs/design.md.
@@ -21,7 +28,8 @@ This layer imports the engine, ``quantities`` and ``mechanism``; the commands in
 from sielaff.design.balance import balance, counterweights
 from sielaff.design.bearings import Pin, bearings
 from sielaff.design.flywheel import Flywheel, flywheel, flywheel_from_torque
+from sielaff.design.slider_balance import SliderBalance, slider_balance
 from sielaff.design.tolerance import Tolerance, tolerance
 
-__all__ = ["Flywheel", "Pin", "Tolerance", "balance", "bearings", "counterweights",
-           "flywheel", "flywheel_from_torque", "tolerance"]
+__all__ = ["Flywheel", "Pin", "SliderBalance", "Tolerance", "balance", "bearings",
+           "counterweights", "flywheel", "flywheel_from_torque", "slider_balance", "tolerance"]

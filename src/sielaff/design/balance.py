@@ -49,6 +49,20 @@ class Counterweight:
     angle: Any
 
 
+def _refuse(mechanism: Any) -> None:
+    """One line for any kind but the four-bar: the method needs its two independent
+    rotating links (a slider-crank's slider does not turn: design.slider_balance)."""
+    if isinstance(mechanism, Mechanism):
+        return
+    from sielaff.design.kinds import is_slider_crank, kind_name
+
+    where = ("; a slider-crank's shaking force cannot be cancelled by counterweights: "
+             "sielaff.design.slider_balance gives what a crank counterweight leaves"
+             if is_slider_crank(mechanism) else "")
+    raise ValueError(f"balance: Berkof-Lowen counterweights are for the four-bar, not a "
+                     f"{kind_name(mechanism)}{where}")
+
+
 def _required(m: Mechanism) -> tuple[Any, Any]:
     d3 = np.exp(1j * np.radians(np.asarray(m.ADEL3, dtype=float)))
     p2 = m.W3 * m.R2 * (m.RG3 / m.R3 * d3 - 1.0)
@@ -62,7 +76,17 @@ def _moment(w, rg, adel):
 
 def counterweights(mechanism: Mechanism, radius2: Any = None, radius4: Any = None
                    ) -> tuple[Counterweight, Counterweight]:
-    """The two counterweights (links 2 and 4) that balance ``mechanism`` fully."""
+    """The two counterweights (links 2 and 4) that balance ``mechanism`` fully.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        A four-bar [its unit system]; any other kind is refused in one line (a
+        slider-crank's answer is :func:`sielaff.design.slider_balance.slider_balance`).
+    radius2, radius4 : float or array, optional
+        Each counterweight's distance from its pivot [in or m]; default R2 and R4.
+    """
+    _refuse(mechanism)
     m = mechanism
     r2 = m.R2 if radius2 is None else radius2
     r4 = m.R4 if radius4 is None else radius4
@@ -94,7 +118,16 @@ def _merge(w, zi, rg, adel, c: Counterweight, divisor: float):
 def balance(mechanism: Mechanism, radius2: Any = None, radius4: Any = None) -> Mechanism:
     """``mechanism`` fully force-balanced: counterweights at ``radius2`` on the crank and
     ``radius4`` on the rocker (default R2 and R4) merged into links 2 and 4, so that every
-    tool runs on the result unchanged.  Fields may be arrays (designs)."""
+    tool runs on the result unchanged.  Fields may be arrays (designs).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        A four-bar [its unit system]; any other kind is refused in one line.
+    radius2, radius4 : float or array, optional
+        Each counterweight's distance from its pivot [in or m]; default R2 and R4.
+    """
+    _refuse(mechanism)
     m = mechanism
     cw2, cw4 = counterweights(m, radius2, radius4)
     divisor = MASS_DIVISOR[m.units]

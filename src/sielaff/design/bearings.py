@@ -30,6 +30,13 @@ with ``threshold = 0``) is the load passing through zero, sweeping nothing.  A l
 reversal is a change of sign of the load's component along the member's line (tension
 to compression of that member at that pin) among the positions loaded above the
 threshold, counted around the closed cycle.
+
+Another kind of linkage (a slider-crank, an inverted slider-crank, a six-bar, any
+``Linkage``) has its own pins (:func:`pin_table`): each pin of its topology, named by its
+point, whose output F reports the force of link ``by`` on link ``on``; its members are the
+two links in link order (the frame, the crank, link 3, ...), the force on ``on`` being F
+and on ``by`` -F, each member's line its ATHk (the frame's +x).  A slide's guide force is
+not a pin's and is left out.  Its crank must turn fully by its model's ``full_turn``.
 """
 
 from __future__ import annotations
@@ -39,12 +46,12 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.design.kinds import is_four_bar, kind_name, pins, scene_of_kind, turn_failures
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.scene import Scene, scene_from
-from sielaff.mechanism import Mechanism
 
-__all__ = ["Member", "Pin", "bearings", "unloaded_arcs"]
+__all__ = ["Member", "Pin", "bearings", "pin_table", "unloaded_arcs"]
 
 #: pin -> (force name, sign on first member, first member, second member)
 PINS = {
@@ -76,6 +83,33 @@ TOUCH = 1e-9
 ZERO = 1e-12
 #: The peak load is found on the positions, then on a grid this fine around it (degrees).
 PEAK_STEP = 1e-3
+
+#: A kind's pins and its members' lines: ({pin: (force, sign, first, second)}, {member:
+#: output or None}), as :data:`PINS` and :data:`LINE` are the four-bar's.
+Table = tuple[dict[str, tuple[str, float, str, str]], dict[str, str | None]]
+
+
+def _member(k: int) -> str:
+    return {1: "frame", 2: "crank"}.get(k, f"link {k}")
+
+
+def pin_table(mechanism: Any) -> Table:
+    """The pins and member lines of the kind of ``mechanism`` [any kind, its unit system]:
+    (:data:`PINS`, :data:`LINE`) for a four-bar; for another its topology's pins (module
+    doc), keyed by point (by force where two pins share a point)."""
+    if is_four_bar(mechanism):
+        return PINS, LINE
+    found = pins(mechanism)
+    points = [point for _, point, _, _ in found]
+    table: dict[str, tuple[str, float, str, str]] = {}
+    line: dict[str, str | None] = {}
+    for name, point, by, on in found:
+        first, second = min(by, on), max(by, on)
+        key = point if points.count(point) == 1 else name
+        table[key] = (name, 1.0 if first == on else -1.0, _member(first), _member(second))
+        for k in (first, second):
+            line[_member(k)] = None if k == 1 else f"ATH{k}"
+    return table, line
 
 
 @dataclass(frozen=True)
@@ -148,18 +182,22 @@ def _reversals(along: np.ndarray) -> int:
     return int(np.count_nonzero(s != np.roll(s, -1)))
 
 
-def _evaluate(mechanism: Mechanism, th: np.ndarray, sc: Scene) -> dict[str, np.ndarray]:
-    want = ["ATH2", "ATH3", "ATH4"] + [p[0] + s for p in PINS.values() for s in ("X", "Y")]
+def _evaluate(mechanism: Any, th: np.ndarray, sc: Scene, table: Table = (PINS, LINE)
+              ) -> dict[str, np.ndarray]:
+    pins_, line = table
+    want = [v for v in line.values() if v is not None]
+    want += [p[0] + s for p in pins_.values() for s in ("X", "Y")]
     return analyze(mechanism, th, want, scene=sc)
 
 
-def _directions(r: dict[str, np.ndarray], pin: str) -> tuple[np.ndarray, list[np.ndarray]]:
+def _directions(r: dict[str, np.ndarray], pin: str, table: Table = (PINS, LINE)
+                ) -> tuple[np.ndarray, list[np.ndarray]]:
     """The load's magnitude at ``pin`` and its direction relative to each member (deg)."""
-    name, sign, first, second = PINS[pin]
+    name, sign, first, second = table[0][pin]
     fx, fy = r[name + "X"], r[name + "Y"]
     out = []
     for member, s in ((first, sign), (second, -sign)):
-        key = LINE[member]
+        key = table[1][member]
         line = 0.0 if key is None else r[key]
         out.append((np.degrees(np.arctan2(s * fy, s * fx)) - line) % 360.0)
     return np.hypot(fx, fy), out
@@ -170,16 +208,17 @@ def _turn(d: np.ndarray) -> np.ndarray:
     return np.abs((np.roll(d, -1) - d + 180.0) % 360.0 - 180.0)
 
 
-def _refine(mechanism: Mechanism, sc: Scene, th: np.ndarray, r: dict[str, np.ndarray],
-            floor: dict[str, float]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def _refine(mechanism: Any, sc: Scene, th: np.ndarray, r: dict[str, np.ndarray],
+            floor: dict[str, float], table: Table = (PINS, LINE)
+            ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Bisect the intervals where a direction turns more than :data:`STEP` or a pin's
     load crosses its ``floor`` (lb or N), until neither holds or the interval is too
     narrow; the positions and the outputs there."""
     while True:
         width = np.diff(th, append=th[0] + 360.0)
         split = np.zeros(th.size, bool)
-        for pin in PINS:
-            load, dirs = _directions(r, pin)
+        for pin in table[0]:
+            load, dirs = _directions(r, pin, table)
             on = ~_off(load, floor[pin])
             both = on & np.roll(on, -1)
             crossing = on != np.roll(on, -1)
@@ -189,7 +228,7 @@ def _refine(mechanism: Mechanism, sc: Scene, th: np.ndarray, r: dict[str, np.nda
         if not split.any():
             return th, r
         mid = th[split] + width[split] / 2.0
-        new = _evaluate(mechanism, mid, sc)
+        new = _evaluate(mechanism, mid, sc, table)
         order = np.argsort(np.concatenate([th, mid]), kind="stable")
         th = np.concatenate([th, mid])[order]
         r = {k: np.concatenate([r[k], new[k]])[order] for k in r}
@@ -200,7 +239,7 @@ def _off(load: np.ndarray, floor: float) -> np.ndarray:
     return (load < floor) | (load <= 0.0)
 
 
-def _peak(mechanism: Mechanism, sc: Scene, force: str, th: np.ndarray,
+def _peak(mechanism: Any, sc: Scene, force: str, th: np.ndarray,
           load: np.ndarray, h: float) -> tuple[float, float]:
     """(peak load, THETA 2 [deg]): the largest sampled load, then the largest on a
     :data:`PEAK_STEP` grid ``h`` either side of it."""
@@ -214,55 +253,69 @@ def _peak(mechanism: Mechanism, sc: Scene, force: str, th: np.ndarray,
     return float(v[i]), float(fine[i] % 360.0) + 0.0
 
 
-def bearings(mechanism: Mechanism, n: int = SAMPLES, *, scene: Scene | None = None,
+def bearings(mechanism: Any, n: int = SAMPLES, *, scene: Scene | None = None,
              threshold: float = THRESHOLD, **keywords: Any) -> dict[str, Pin]:
-    """The four pins of ``mechanism`` (one design, a crank that turns fully) over one
-    revolution, starting from ``n`` positions and refined where needed (module doc), in
-    ``scene`` (or the Scene of ``analyze``'s keywords).
+    """The pins of ``mechanism`` (one design, a crank that turns fully; a four-bar's four,
+    another kind's :func:`pin_table`) over one revolution, starting from ``n`` positions
+    and refined where needed (module doc), in ``scene`` (or the Scene of ``analyze``'s
+    keywords).
 
     Parameters
     ----------
-    mechanism : Mechanism
+    mechanism : Mechanism or another kind (SliderCrank, WattII, ..., Linkage)
         One design (scalar fields) [deck units].
     n : int
         Evenly spaced positions the refinement starts from [-].
     scene : Scene, optional
-        The loads, effects and branch [-].
+        The loads, effects and branch, of the kind's Scene type [-].
     threshold : float
         Loads below this fraction of the pin's peak do not count as loading a side
         [fraction of the peak, 0 <= threshold < 1].
     """
-    sc = scene_from(scene, keywords, "bearings")
-    if any(np.ndim(v) for v in mechanism.as_tuple()):
+    four_bar = is_four_bar(mechanism)
+    if four_bar:
+        sc = scene_from(scene, keywords, "bearings")
+        values = mechanism.as_tuple()
+    else:
+        sc = scene_of_kind(mechanism, scene, keywords, "bearings")
+        values = tuple(mechanism.as_dict().values())
+    if any(np.ndim(v) for v in values):
         raise ValueError("bearings: one design at a time (the mechanism's fields are arrays)")
-    c = linkage_class(mechanism)
-    if not bool(c.turns_fully):
-        raise ValueError("the crank cannot make a whole revolution: no bearing cycle")
-    if c.kind == "change-point":
-        raise ValueError("a change point: the linkage folds flat on the way round, where the "
-                         "loads are not defined: no bearing cycle")
+    if four_bar:
+        c = linkage_class(mechanism)
+        if not bool(c.turns_fully):
+            raise ValueError("the crank cannot make a whole revolution: no bearing cycle")
+        if c.kind == "change-point":
+            raise ValueError("a change point: the linkage folds flat on the way round, where "
+                             "the loads are not defined: no bearing cycle")
+    else:
+        why = turn_failures(mechanism)[()]
+        if why is not None:
+            raise ValueError(f"the crank of the {kind_name(mechanism)} cannot make a whole "
+                             f"revolution ({why}): no bearing cycle")
+    table = pin_table(mechanism)
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"bearing threshold {threshold:g}: a fraction of the pin's peak "
                          "load, 0 or more and below 1")
     th = np.arange(n) * (360.0 / n)
-    r = _evaluate(mechanism, th, sc)
-    peaks = {pin: _peak(mechanism, sc, PINS[pin][0], th, _directions(r, pin)[0], 360.0 / n)
-             for pin in PINS}
-    floor = {pin: max(threshold, ZERO) * peaks[pin][0] for pin in PINS}
-    th, r = _refine(mechanism, sc, th, r, floor)
-    pins = {}
-    for pin, (name, sign, first, second) in PINS.items():
+    r = _evaluate(mechanism, th, sc, table)
+    peaks = {pin: _peak(mechanism, sc, table[0][pin][0], th,
+                        _directions(r, pin, table)[0], 360.0 / n) for pin in table[0]}
+    floor = {pin: max(threshold, ZERO) * peaks[pin][0] for pin in table[0]}
+    th, r = _refine(mechanism, sc, th, r, floor, table)
+    out = {}
+    for pin, (name, sign, first, second) in table[0].items():
         fx, fy = r[name + "X"], r[name + "Y"]
-        load, dirs = _directions(r, pin)
+        load, dirs = _directions(r, pin, table)
         peak, at = peaks[pin]
         off = _off(load, floor[pin])
         members = []
         for (member, s), rel in zip(((first, sign), (second, -sign)), dirs):
-            key = LINE[member]
+            key = table[1][member]
             line = np.zeros(th.size) if key is None else r[key]
             along = np.where(off, 0.0, s * (fx * np.cos(np.radians(line))
                                             + fy * np.sin(np.radians(line))))
             rel = np.where(off, np.nan, rel)
             members.append(Member(member, rel, unloaded_arcs(rel), _reversals(along)))
-        pins[pin] = Pin(pin, name, peak, at, th, load, tuple(members), threshold)
-    return pins
+        out[pin] = Pin(pin, name, peak, at, th, load, tuple(members), threshold)
+    return out

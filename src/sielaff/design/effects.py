@@ -6,6 +6,7 @@ its headline figures (``figure_outputs``, ``figures``) in its own module
 (:class:`sielaff.engine.registry.Effect`); this runs them.  The figures are over one
 revolution on the grid :func:`sielaff.engine.derived.revolution` (0 to 360 degrees, the
 end left out: a mean over it is the periodic trapezoid rule), at the crank speed |TH2D|.
+Any kind of linkage: its scene's effects are its model's, and their figures its outputs.
 """
 
 from __future__ import annotations
@@ -19,7 +20,6 @@ import numpy as np
 from sielaff.engine.declare import Fact, fact_lines
 from sielaff.engine.derived import revolution
 from sielaff.engine.scene import Scene
-from sielaff.mechanism import Mechanism
 
 __all__ = ["EffectFacts", "effect_facts", "effects_json", "effects_lines"]
 
@@ -34,17 +34,17 @@ class EffectFacts:
     figures: list[Fact]
 
 
-def effect_facts(mechanism: Mechanism, scene: Scene, figures: bool = True
+def effect_facts(mechanism: Any, scene: Scene, figures: bool = True
                  ) -> list[EffectFacts]:
     """Each effect ``scene`` calls for, in the model's order, with its parameters and
     (with ``figures``, for a crank that turns fully) its figures over one revolution.
 
     Parameters
     ----------
-    mechanism : Mechanism
+    mechanism : Mechanism or another kind (SliderCrank, WattII, ..., Linkage)
         The design [its unit system's units].
     scene : Scene
-        What acts on it [-].
+        What acts on it, of its kind's Scene type [-].
     figures : bool
         Whether to compute the revolution's figures [-].
     """

@@ -23,6 +23,10 @@ E is integrated spectrally: TORQ is smooth and periodic, so the Fourier series o
 samples integrates to machine precision, and the extremes of E (where TORQ = Tm) are
 found by Newton's method on that series, not taken from the grid.  ``n`` samples.
 
+Every kind of linkage the engine analyses has a flywheel answer: the four-bar's crank is
+asked whether it turns fully by its class, any other kind's by its model's ``full_turn``;
+the torque is the engine's TORQ in the kind's own Scene.
+
 The cycle need not be one crank revolution: ``cycle`` (degrees) is the crank angle over
 which the torque repeats (720 for a four-stroke engine's), the samples span it, and E is
 integrated over it (the series in the cycle's own angle, scaled by cycle / 360).
@@ -35,10 +39,10 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.design.kinds import is_four_bar, kind_name, scene_of_kind, turn_failures
 from sielaff.engine.analysis import analyze
 from sielaff.engine.classify import linkage_class
 from sielaff.engine.scene import Scene, scene_from
-from sielaff.mechanism import Mechanism
 
 __all__ = ["Flywheel", "flywheel", "flywheel_from_torque"]
 
@@ -146,25 +150,48 @@ def flywheel_from_torque(torque: Any, th2d: Any, cf: float = 0.05,
                     flywheel_torque=t - mean[..., None], speed=speed)
 
 
-def flywheel(mechanism: Mechanism, cf: float = 0.05, n: int = SAMPLES, *,
+def flywheel(mechanism: Any, cf: float = 0.05, n: int = SAMPLES, *,
              scene: Scene | None = None, cycle: float = 360.0,
              **keywords: Any) -> Flywheel:
     """The flywheel on the crank shaft of ``mechanism`` for coefficient ``cf``.
 
-    ``cycle`` [deg]: the crank angle the torque repeats over, sampled by ``n`` angles
-    (a whole number of revolutions for a linkage alone; a scene whose TEX or loads
-    depend on more than the position, e.g. an engine's 720-degree cycle, needs more).
-    ``scene``: the :class:`~sielaff.Scene` (or ``analyze``'s keywords); the crank speed
-    is the steady TH2D, so its ``th2dd`` must be 0.  The mechanism's fields may be arrays (designs).
-    Raises ValueError for a linkage whose crank cannot turn fully.
+    Parameters
+    ----------
+    mechanism : Mechanism, SliderCrank, InvertedSliderCrank, WattII, StephensonIII or Linkage
+        The linkage [its unit system]; its fields may be arrays (designs).
+    cf : float
+        The coefficient of speed fluctuation (wmax - wmin) / w_avg [-], in (0, 2).
+    n : int
+        Crank angles sampled over ``cycle`` [-], even.
+    scene : Scene, optional
+        What acts on it, of its kind's Scene type (``sielaff.scene_for``) [-]; or
+        ``analyze``'s keywords.  The crank speed is the steady TH2D, so ``th2dd`` must be 0.
+    cycle : float
+        The crank angle the torque repeats over [deg] (a whole number of revolutions for
+        a linkage alone; a scene whose TEX or loads depend on more than the position,
+        e.g. an engine's 720-degree cycle, needs more).
+
+    Raises ValueError for a linkage whose crank cannot turn fully: a four-bar by its
+    class (``linkage_class``), any other kind by its model's ``full_turn``, one design
+    at a time (the first that cannot is named).
     """
-    sc = scene_from(scene, keywords, "flywheel")
+    four_bar = is_four_bar(mechanism)
+    sc = scene_from(scene, keywords, "flywheel") if four_bar \
+        else scene_of_kind(mechanism, scene, keywords, "flywheel")
     if callable(sc.th2dd) or np.any(np.asarray(sc.th2dd) != 0.0):
         raise ValueError("a flywheel is sized at a steady mean speed: th2dd must be 0")
-    if not np.all(linkage_class(mechanism).turns_fully):
-        raise ValueError("the crank cannot make a whole revolution: no flywheel cycle")
+    if four_bar:
+        if not np.all(linkage_class(mechanism).turns_fully):
+            raise ValueError("the crank cannot make a whole revolution: no flywheel cycle")
+        values = mechanism.as_tuple()
+    else:
+        why = [w for w in turn_failures(mechanism).reshape(-1) if w is not None]
+        if why:
+            raise ValueError(f"the crank of the {kind_name(mechanism)} cannot make a whole "
+                             f"revolution ({why[0]}): no flywheel cycle")
+        values = tuple(mechanism.as_dict().values())
     theta = np.arange(n) * (_cycle(cycle) / n)
-    fields = np.broadcast(*(np.asarray(v) for v in mechanism.as_tuple()))
+    fields = np.broadcast(*(np.asarray(v) for v in values))
     ath2 = theta.reshape((1,) * fields.nd + (n,))
     m = mechanism.replace(**{name: np.asarray(v)[..., None]
                              for name, v in mechanism.as_dict().items()})

@@ -14,6 +14,11 @@ a toggle: its magnitude at :data:`APPROACH` [deg] from the toggle (inside the ar
 more than :data:`GROWTH` = 2 times its magnitude ten times farther away (an inverse
 square root gives sqrt(10) = 3.2; a bounded quantity about 1).  Its peak is then the
 toggles it grows toward, with GAMMA there, and no value.
+
+Every other kind (a slider-crank, an inverted slider-crank, a six-bar, any ``Linkage``)
+has its own rows (:func:`peak_rows`: its pins, slides and transmission angles) over where
+every one of its dyads closes on the scene's branch, its toggles the ends of those arcs,
+with the same test of growth.
 """
 
 from __future__ import annotations
@@ -25,7 +30,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["PEAKS", "Peak", "peaks"]
+from sielaff.design.kinds import arcs_where_assembled, gammas, is_four_bar, pins, slides, spread
+
+__all__ = ["PEAKS", "Peak", "peak_rows", "peaks"]
 
 #: The peaks reported: (label, output, how).
 PEAKS = (
@@ -82,15 +89,34 @@ def _approaches(arcs: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return out
 
 
+def peak_rows(mechanism: Any) -> tuple[tuple[str, str, str], ...]:
+    """The rows (label, output, how) the peaks of ``mechanism`` [any kind] report:
+    :data:`PEAKS` for a four-bar; for another kind the driving torque, the shaking force
+    and moment, each pin's load, each slide's guide force (largest magnitude) and each
+    transmission angle GAMMA<pin> its model gives."""
+    if is_four_bar(mechanism):
+        return PEAKS
+    rows = [p for p in PEAKS if p[1] in ("TORQ", "SHAK", "SHAKM")]
+    rows += [(f"load on pin {point} ({name})", name, "max")
+             for name, point, _, _ in pins(mechanism)]
+    rows += [(f"guide force, largest magnitude ({name})", name, "maxabs")
+             for name in slides(mechanism)]
+    for g in gammas(mechanism):
+        at = f" at {g[len('GAMMA'):]}" if g != "GAMMA" else ""
+        rows += [(f"transmission angle{at}, least", g, "min"),
+                 (f"transmission angle{at}, greatest", g, "max")]
+    return tuple(rows)
+
+
 def peaks(mechanism: Any, scene: Any, n: int = 3600) -> list[Peak]:
-    """The rows of :data:`PEAKS` for ``mechanism`` [its units] in ``scene``.
+    """The rows of :func:`peak_rows` for ``mechanism`` [its units] in ``scene``.
 
     Parameters
     ----------
-    mechanism : Mechanism
+    mechanism : Mechanism or another kind (SliderCrank, WattII, ..., Linkage)
         One design [its unit system].
     scene : Scene
-        What acts on it.
+        What acts on it, of its kind's Scene type [-].
     n : int
         Crank angles over the arcs it reaches [-].
 
@@ -98,19 +124,54 @@ def peaks(mechanism: Any, scene: Any, n: int = 3600) -> list[Peak]:
     -------
     list of Peak
         Only the rows with a finite value somewhere (none for a linkage that never
-        assembles).
+        assembles).  A four-bar's arcs and toggles are its class's
+        (:func:`sielaff.engine.reachable`); another kind's are where every dyad closes on
+        the scene's branch (:func:`sielaff.design.kinds.arcs_where_assembled`), and the
+        transmission angle at a toggle is the one of its GAMMA<pin> nearest 0 or 180 deg
+        (NaN for a kind with none, such as the slider-cranks).
     """
-    from sielaff.engine import linkage_class, reachable
-    from sielaff.quantities import unit
-
     m = mechanism
-    th = reachable(m, n)
+    if is_four_bar(m):
+        from sielaff.engine import linkage_class, reachable
+
+        th = reachable(m, n)
+        if not len(th):
+            return []
+        c = linkage_class(m)
+        ends = [] if c.turns_fully else _approaches(list(c.arcs or []))
+        return _rows(m, scene, th, ends, PEAKS, ("GAMMA",))
+    if any(np.ndim(v) for v in m.as_dict().values()):
+        raise ValueError("peaks: one design at a time (the mechanism's fields are arrays)")
+    arcs = arcs_where_assembled(m, scene.branch)
+    th = spread(arcs, n)
     if not len(th):
         return []
-    names = sorted({p[1] for p in PEAKS})
+    return _rows(m, scene, th, _approaches(arcs), peak_rows(m), gammas(m))
+
+
+def _gamma_at(m: Any, at: np.ndarray, angles: tuple[str, ...], scene: Any) -> list[float]:
+    """The transmission angle at each toggle ``at`` [deg]: the one of ``angles`` nearest
+    0 or 180 deg there (NaN with none)."""
+    if not angles:
+        return [math.nan] * len(at)
+    r = _quiet_analyze(m, np.mod(at, 360.0), list(angles), scene)
+    if len(angles) == 1:
+        return [float(g) for g in r[angles[0]]]
+    g = np.array([np.asarray(r[a], dtype=float) for a in angles])
+    with np.errstate(all="ignore"):
+        off = np.where(np.isfinite(g), np.minimum(g, 180.0 - g), np.inf)
+    pick = np.argmin(off, axis=0)
+    return [float(g[pick[k], k]) for k in range(len(at))]
+
+
+def _rows(m: Any, scene: Any, th: np.ndarray, ends: list[tuple[float, float]],
+          table: tuple[tuple[str, str, str], ...], angles: tuple[str, ...]) -> list[Peak]:
+    """The peaks of ``table`` over the angles ``th`` [deg], a quantity growing toward a
+    toggle of ``ends`` (toggle, direction into its arc) given as unbounded."""
+    from sielaff.quantities import unit
+
+    names = sorted({p[1] for p in table})
     r = _quiet_analyze(m, th, names, scene)
-    c = linkage_class(m)
-    ends = [] if c.turns_fully else _approaches(list(c.arcs or []))
     grows: dict[str, list[int]] = {}
     gamma: list[float] = []
     if ends:
@@ -119,15 +180,14 @@ def peaks(mechanism: Any, scene: Any, n: int = 3600) -> list[Peak]:
         at = np.array([t for t, _ in ends])
         rn = _quiet_analyze(m, np.mod(near, 360.0), names, scene)
         rf = _quiet_analyze(m, np.mod(far, 360.0), names, scene)
-        gamma = [float(g) for g in _quiet_analyze(m, np.mod(at, 360.0), ["GAMMA"],
-                                                  scene)["GAMMA"]]
+        gamma = _gamma_at(m, at, angles, scene)
         for name in names:
             a, b = np.abs(np.asarray(rn[name])), np.abs(np.asarray(rf[name]))
             with np.errstate(all="ignore"):
                 up = ~np.isfinite(a) | (a > GROWTH * b)
-            grows[name] = [k for k in range(len(ends)) if up[k] and name != "GAMMA"]
+            grows[name] = [k for k in range(len(ends)) if up[k] and name not in angles]
     rows = []
-    for label, name, how in PEAKS:
+    for label, name, how in table:
         u = unit(name, m.units)
         if grows.get(name):
             ks = grows[name]

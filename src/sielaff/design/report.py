@@ -14,12 +14,15 @@ import numpy as np
 from sielaff.design.balance import counterweights
 from sielaff.design.bearings import Pin
 from sielaff.design.flywheel import Flywheel
+from sielaff.design.kinds import four_bar_only
+from sielaff.design.slider_balance import SliderBalance
 from sielaff.engine.analysis import analyze
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
 from sielaff.quantities import fmt, unit, unit_of
 
-__all__ = ["balance_lines", "bearing_lines", "compare", "flywheel_lines"]
+__all__ = ["balance_lines", "bearing_lines", "compare", "flywheel_lines",
+           "slider_balance_lines"]
 
 
 #: A value below this fraction of its scale is roundoff and printed as 0, so the text
@@ -103,7 +106,9 @@ def compare(before: Mechanism, after: Mechanism, n: int = 3600, *,
             scene: Scene | None = None) -> list[tuple[str, str, float, float]]:
     """(label, unit, before, after) for :data:`ROWS` over one revolution, or over the arcs
     where the linkage assembles when its crank cannot turn fully (the toggles, where the
-    rates are infinite, left out)."""
+    rates are infinite, left out).  A four-bar's (its pins); another kind is refused in
+    one line."""
+    four_bar_only(before, "compare (the four-bar's pins O2, A, B, O4)")
     import warnings
 
     from sielaff.engine.analysis import AssemblyWarning
@@ -133,7 +138,9 @@ def compare(before: Mechanism, after: Mechanism, n: int = 3600, *,
 
 def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
                   radius4: Any = None, *, scene: Scene | None = None) -> list[str]:
-    """The counterweights and the comparison, side by side."""
+    """The counterweights and the comparison, side by side (a four-bar's: another kind is
+    refused in one line; a slider-crank's is :func:`slider_balance_lines`)."""
+    four_bar_only(before, "balance_lines (Berkof-Lowen counterweights)")
     system = before.units
     w, r = unit("W2", system), unit("R1", system)
     cw2, cw4 = counterweights(before, radius2, radius4)
@@ -158,4 +165,44 @@ def balance_lines(before: Mechanism, after: Mechanism, radius2: Any = None,
     out.append(f"  {'':24} {'before':>11} {'after':>11}")
     for label, u, b, a in compare(before, after, scene=scene):
         out.append(f"  {label:24} {_num(b, b)} {_num(a, b)} {u}")
+    return out
+
+
+def slider_balance_lines(b: SliderBalance) -> list[str]:
+    """A slider-crank's crank counterweight (:func:`sielaff.design.slider_balance`) and
+    what it leaves, before and after, over one revolution.
+
+    Parameters
+    ----------
+    b : SliderBalance
+        The answer [the slider-crank's unit system].
+    """
+    system = b.mechanism.units
+    w, r, f = unit("W2", system), unit("R2", system), unit("SHAK", system)
+    cw = b.counterweight
+    out = ["Crank counterweight of a slider-crank (its shaking force cannot be cancelled by",
+           "  counterweights: this is what one on the crank leaves)",
+           f"  reciprocating {'mass' if system == 'SI' else 'weight'} (the slider and the rod's "
+           f"share at B) {b.reciprocating:.4g} {w}",
+           f"  rotating first moment (the crank and the rod's share at A) {b.rotating:.4g} "
+           f"{w} {r}",
+           f"  unbalanced along the stroke: primary {b.primary:.4g} {f}, secondary "
+           f"{b.secondary:.4g} {f}",
+           f"  on the crank: {float(cw.weight):.4g} {w} at {float(cw.radius):g} {r} from O2, "
+           f"{float(cw.angle):.1f} deg from the crank's line ({float(b.product):.4g} {w} {r});",
+           f"  it balances the rotating mass and {100 * b.fraction:g}% of the primary",
+           "  merged into the crank:"]
+    for k in ("W2", "ZI2", "RG2", "ADEL2"):
+        out.append(f"    {k:5} {float(getattr(b.unbalanced, k)):11.5g} -> "
+                   f"{float(getattr(b.mechanism, k)):11.5g} {unit(k, system)}")
+    out += ["", "Shaking force over one revolution (modern engine)",
+            f"  {'':30} {'before':>11} {'after':>11}"]
+    rows = (("peak |SHAKX| (along the stroke)", "peak_x"), ("peak |SHAKY| (across it)", "peak_y"),
+            ("peak SHAK", "peak"), ("primary along the stroke", "primary_along"),
+            ("primary across the stroke", "primary_across"),
+            ("secondary along the stroke", "secondary_along"))
+    for label, key in rows:
+        x, y = getattr(b.before, key), getattr(b.after, key)
+        scale = max(b.before.peak, b.after.peak)
+        out.append(f"  {label:30} {_num(x, scale)} {_num(y, scale)} {f}")
     return out

@@ -18,6 +18,10 @@ The swept names are the mechanism's fields (W2 ... TH2D), ``TEX`` (the scene's t
 the rocker, in-lb or N m), ``BALANCE`` (0 or 1: the design with Berkof-Lowen counterweights
 merged in, design.balance) and ``CW_R2``, ``CW_R4`` (the counterweights' radii from O2 and
 O4 when BALANCE is 1; default R2 and R4).
+
+A sweep of another kind of linkage (a slider-crank, a six-bar, ...) varies that kind's own
+fields (:func:`sweepable`; TEX and the counterweights are the four-bar's) and gives its
+figures (:func:`sielaff.design.figures.figure_table`), in its own Scene.
 """
 
 from __future__ import annotations
@@ -29,13 +33,15 @@ from typing import Any
 import numpy as np
 
 from sielaff.design.balance import balance
-from sielaff.design.figures import FIGURES, figures
-from sielaff.engine.scene import Scene
-from sielaff.mechanism import FIELD_NAMES, Mechanism
+from sielaff.design.figures import FIGURES, figure_base, figure_table, figures, maximised
+from sielaff.design.kinds import fields_of, is_four_bar, kind_name
+from sielaff.engine.analysis import model_for
+from sielaff.engine.scene import Scene, scene_of
+from sielaff.mechanism import FIELD_NAMES
 
 __all__ = ["BLOCK", "BLOCK_MEMORY", "BYTES_PER_POSITION", "MAX_ANGLES", "NO_WORKER_SECONDS",
            "SENSES", "SWEEPABLE", "ClusterLost", "Grid",
-           "block", "column_units", "iter_blocks", "pareto_pair", "sweep_frame"]
+           "block", "column_units", "iter_blocks", "pareto_pair", "sweep_frame", "sweepable"]
 
 #: Designs per block: with 360 angles, about 90,000 positions (some 40 MB of arrays).
 BLOCK = 256
@@ -53,12 +59,23 @@ SWEEPABLE = tuple(FIELD_NAMES) + ("TEX", "BALANCE", "CW_R2", "CW_R4")
 _OTHER = ("TEX", "BALANCE", "CW_R2", "CW_R4")
 
 
-class Grid:
-    """A Cartesian grid of designs around ``base``: ``axes`` maps swept names to values."""
+def sweepable(mechanism: Any) -> tuple[str, ...]:
+    """The names a sweep of ``mechanism`` [any kind, its unit system] can vary:
+    :data:`SWEEPABLE` for a four-bar, the kind's own fields for any other."""
+    return SWEEPABLE if is_four_bar(mechanism) else fields_of(mechanism)
 
-    def __init__(self, base: Mechanism, axes: dict[str, Any]) -> None:
+
+class Grid:
+    """A Cartesian grid of designs around ``base`` (any kind): ``axes`` maps swept names
+    to values [each name's unit]."""
+
+    def __init__(self, base: Any, axes: dict[str, Any]) -> None:
+        names = sweepable(base)
         for name in axes:
-            if name not in SWEEPABLE:
+            if name not in names:
+                if not is_four_bar(base):
+                    raise ValueError(f"{name}: not a field a sweep of a {kind_name(base)} "
+                                     f"can vary (fields: {' '.join(names)})")
                 raise ValueError(f"{name}: not a field a sweep can vary "
                                  f"(fields: {' '.join(SWEEPABLE)})")
         self.base = base
@@ -77,10 +94,12 @@ def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: Scene
           ) -> dict[str, np.ndarray]:
     """Grid values and figures of designs start..stop-1."""
     values = grid.designs(start, stop)
-    fields = {k: v for k, v in values.items() if k not in _OTHER}
+    four_bar = is_four_bar(grid.base)
+    fields = {k: v for k, v in values.items() if not (four_bar and k in _OTHER)}
     m = grid.base.replace(**{k: np.broadcast_to(np.asarray(getattr(grid.base, k), float),
                                                 (stop - start,)).copy()
-                             for k in FIELD_NAMES}).replace(**fields)
+                             for k in (FIELD_NAMES if four_bar else fields_of(grid.base))}
+                          ).replace(**fields)
     if "BALANCE" in values:
         on = values["BALANCE"] != 0.0
         if on.any():
@@ -107,14 +126,15 @@ def block(grid: Grid, start: int, stop: int, n: int, cf: float, scene: Scene
 SENSES = ("min", "max")
 
 
-def pareto_pair(items: Any) -> tuple[tuple[str, str], tuple[str, str]]:
+def pareto_pair(items: Any, table: Any = None) -> tuple[tuple[str, str], tuple[str, str]]:
     """Two Pareto figures, each ``"FIGURE"`` or ``"FIGURE:min"`` / ``"FIGURE:max"``, as
     ((figure, sense), (figure, sense)).  A bare figure takes its usual sense: maximised
-    if in :data:`~sielaff.design.figures.MAXIMISED` (GAMMA_MIN), else minimised.  A
+    if :func:`~sielaff.design.figures.maximised` (GAMMA_MIN, a six-bar's GAMMAB_MIN),
+    else minimised.  ``table``: the figures of the sweep's kind
+    (:func:`~sielaff.design.figures.figure_table`; the four-bar's by default).  A
     ValueError says what is wrong in one line."""
-    from sielaff.design.figures import MAXIMISED
-
-    names = " ".join(f for f in FIGURES if f != "KIND")
+    table = FIGURES if table is None else table
+    names = " ".join(f for f in table if f != "KIND")
     if isinstance(items, str):
         items = [p.strip() for p in items.split(",")]
     if not (isinstance(items, list | tuple) and len(items) == 2
@@ -124,9 +144,9 @@ def pareto_pair(items: Any) -> tuple[tuple[str, str], tuple[str, str]]:
     out = []
     for item in items:
         name, _, sense = item.partition(":")
-        if name not in FIGURES or name == "KIND":
+        if name not in table or name == "KIND":
             raise ValueError(f"pareto: {name!r} is not a figure (one of {names})")
-        sense = sense or ("max" if name in MAXIMISED else "min")
+        sense = sense or ("max" if maximised(name) else "min")
         if sense not in SENSES:
             raise ValueError(f"pareto: {item!r}: the sense is min or max, not {sense!r}")
         out.append((name, sense))
@@ -134,7 +154,8 @@ def pareto_pair(items: Any) -> tuple[tuple[str, str], tuple[str, str]]:
 
 
 def columns(grid: Grid) -> list[str]:
-    return ["DESIGN"] + grid.names + list(FIGURES)
+    """DESIGN, the swept names, then the figures of the grid's kind."""
+    return ["DESIGN"] + grid.names + list(figure_table(grid.base))
 
 
 def _blocks(size: int, size_of_block: int) -> list[tuple[int, int]]:
@@ -188,7 +209,8 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None 
     of them: default one per core).  Dask runs
     ``batch`` blocks at a time, so results stream out at flat memory.
     """
-    scene = Scene() if scene is None else scene
+    if scene is None:
+        scene = Scene() if is_four_bar(grid.base) else scene_of(model_for(grid.base))()
     cols = columns(grid)
     spans = _blocks(grid.size, size_of_block)
 
@@ -217,7 +239,8 @@ def iter_blocks(grid: Grid, n: int = 360, cf: float = 0.05, scene: Scene | None 
 
 
 def column_units(names: list[str], system: str) -> dict[str, str]:
-    """The unit of each column of a sweep (``"-"`` for DESIGN, BALANCE and KIND)."""
+    """The unit of each column of a sweep of any kind (``"-"`` for DESIGN, BALANCE and
+    KIND): a field's own, a figure's output's."""
     from sielaff.quantities import unit
 
     out = {}
@@ -225,7 +248,14 @@ def column_units(names: list[str], system: str) -> dict[str, str]:
         if n in ("DESIGN", "BALANCE", "KIND"):
             out[n] = "-"
             continue
-        base = FIGURES[n][0] if n in FIGURES else {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
+        if n in FIGURES:
+            base = FIGURES[n][0]
+        else:
+            base = {"CW_R2": "R2", "CW_R4": "R4"}.get(n, n)
+            try:
+                unit(base, system)
+            except KeyError:  # another kind's figure: its output's unit
+                base = figure_base(n) or n
         out[n] = unit(base, system) if base else "-"
     return out
 

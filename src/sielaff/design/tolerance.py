@@ -12,10 +12,16 @@ Sampling.  ``distribution="normal"``: each field is nominal + size x z, z standa
 [-1, 1] (``size`` is the half-width, the standard deviation size / sqrt 3).  Fields are
 independent.  Sample j lives in block j // BLOCK; block b draws its numbers from its own
 ``numpy.random.Generator`` seeded with ``SeedSequence(seed, spawn_key=(b,))`` (what
-``SeedSequence(seed).spawn`` gives), the fields in the order of ``FIELD_NAMES``.  A block's
-numbers therefore depend only on the seed and the block, never on where or in what order
-the blocks run: in this process, on dask threads or on a dask.distributed cluster the
-samples and the figures are the same, bit for bit.
+``SeedSequence(seed).spawn`` gives), the fields in the order of ``FIELD_NAMES`` (another
+kind's: its own fields' order).  A block's numbers therefore depend only on the seed and
+the block, never on where or in what order the blocks run: in this process, on dask
+threads or on a dask.distributed cluster the samples and the figures are the same, bit
+for bit.
+
+Any kind of linkage may be toleranced over its own fields (a slider-crank's offset, a
+six-bar's X6): its figures are :func:`sielaff.design.figures.figure_table`'s, its lengths
+those of its topology (and the kind's other positive fields), its crank's full turn its
+model's ``full_turn`` (:mod:`sielaff.design.kinds`), its scene of its own Scene type.
 
 A sample whose lengths are not all positive, or whose weights or inertias are negative,
 is not a linkage and is counted in ``invalid`` (its figures NaN); a sample whose crank
@@ -41,12 +47,20 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.design.figures import FIGURES, figures
+from sielaff.design.figures import FIGURES, figure_table, figures
+from sielaff.design.kinds import (
+    fields_of,
+    is_four_bar,
+    kind_name,
+    nonnegative_fields,
+    positive_fields,
+)
 from sielaff.design.sweep import BLOCK
-from sielaff.engine.scene import Scene
+from sielaff.engine.analysis import model_for
+from sielaff.engine.scene import Scene, scene_of
 from sielaff.mechanism import FIELD_NAMES, LENGTHS, NONNEGATIVE, Mechanism
 
-__all__ = ["DISTRIBUTIONS", "STEP", "TOLERANCED", "Tolerance", "tolerance"]
+__all__ = ["DISTRIBUTIONS", "STEP", "TOLERANCED", "Tolerance", "tolerance", "toleranced"]
 
 DISTRIBUTIONS = ("normal", "uniform")
 #: Central-difference step as a fraction of each field's deviation.
@@ -55,6 +69,22 @@ STEP = 1e-3
 TOLERANCED = tuple(f for f in FIGURES if f != "KIND")
 #: Samples a study may ask for.
 MAX_SAMPLES = 10_000_000
+
+
+def toleranced(mechanism: Any) -> tuple[str, ...]:
+    """The figures a tolerance study of ``mechanism`` [any kind, its unit system] reports:
+    :data:`TOLERANCED` for a four-bar, its kind's figures for another (``figure_table``;
+    none of them a label)."""
+    if is_four_bar(mechanism):
+        return TOLERANCED
+    return tuple(f for f in figure_table(mechanism) if f != "KIND")
+
+
+def _rules(base: Any) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """(fields, those that must be > 0, those that must be >= 0) of ``base``'s kind."""
+    if is_four_bar(base):
+        return FIELD_NAMES, LENGTHS, NONNEGATIVE
+    return fields_of(base), positive_fields(base), nonnegative_fields(base)
 
 
 @dataclass(frozen=True)
@@ -108,29 +138,33 @@ def _draw(seed: int, b: int, k: int, m: int, distribution: str) -> np.ndarray:
     return rng.uniform(-1.0, 1.0, (k, m))
 
 
-def _figures_of(base: Mechanism, fields: dict[str, np.ndarray], scene: Scene, angles: int,
+def _figures_of(base: Any, fields: dict[str, np.ndarray], scene: Scene, angles: int,
                 cf: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(figures (k, F), invalid (k,), not turning (k,)) of the designs ``fields``."""
     k = len(next(iter(fields.values())))
-    full = {name: np.full(k, float(getattr(base, name))) for name in FIELD_NAMES}
+    names, positive, nonnegative = _rules(base)
+    wanted = toleranced(base)
+    full = {name: np.full(k, float(getattr(base, name))) for name in names}
     full.update(fields)
     bad = np.zeros(k, dtype=bool)
-    for name in LENGTHS:
+    for name in positive:
         bad |= ~(full[name] > 0.0)
-    for name in NONNEGATIVE:
+    for name in nonnegative:
         bad |= ~(full[name] >= 0.0)
-    out = np.full((k, len(TOLERANCED)), np.nan)
+    out = np.full((k, len(wanted)), np.nan)
     turning = np.zeros(k, dtype=bool)
     ok = ~bad
     if ok.any():
-        m = Mechanism(**{n: v[ok] for n, v in full.items()}, units=base.units)
+        designs = {n: v[ok] for n, v in full.items()}
+        m = Mechanism(**designs, units=base.units) if is_four_bar(base) \
+            else base.replace(**designs)
         r = figures(m, n=angles, cf=cf, scene=scene)
-        out[ok] = np.stack([r[f] for f in TOLERANCED], axis=1)
+        out[ok] = np.stack([r[f] for f in wanted], axis=1)
         turning[ok] = np.isfinite(r["TORQ_PEAK"])
     return out, bad, ok & ~turning
 
 
-def _block(base: Mechanism, names: list[str], size: np.ndarray, seed: int, b: int,
+def _block(base: Any, names: list[str], size: np.ndarray, seed: int, b: int,
            start: int, stop: int, distribution: str, scene: Scene, angles: int,
            cf: float) -> np.ndarray:
     """Figures, invalid and not-turning flags of samples start..stop-1 (block b)."""
@@ -141,7 +175,7 @@ def _block(base: Mechanism, names: list[str], size: np.ndarray, seed: int, b: in
     return np.concatenate([f, bad[:, None], stuck[:, None]], axis=1)
 
 
-def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000, *,
+def tolerance(mechanism: Any, deviations: dict[str, float], n: int = 1000, *,
               scene: Scene | None = None, seed: int = 0, distribution: str = "normal",
               angles: int = 360, cf: float = 0.05, backend: str = "process",
               client: Any = None, workers: int | None = None, size_of_block: int = BLOCK,
@@ -150,7 +184,7 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
 
     Parameters
     ----------
-    mechanism : Mechanism
+    mechanism : Mechanism or another kind (SliderCrank, WattII, ..., Linkage)
         One design [its units].
     deviations : dict
         ``{field: size}``: the standard deviation (normal) or half-width (uniform) of
@@ -158,7 +192,8 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
     n : int
         Samples [-].
     scene : Scene, optional
-        What acts on the mechanism (default the 1966 program's).
+        What acts on the mechanism, of its kind's Scene type [-] (default the 1966
+        program's; for another kind its Scene's defaults).
     seed : int
         The seed [-]: the same seed gives the same samples on every path.
     distribution : {"normal", "uniform"}
@@ -174,18 +209,26 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
     keep_samples : bool
         Keep the (n, figures) array of sampled figures in ``samples``.
     """
-    sc = Scene() if scene is None else scene
-    if not isinstance(sc, Scene):
-        raise ValueError(f"tolerance: scene = {scene!r} is not a sielaff.Scene")
-    if any(np.ndim(v) for v in mechanism.as_tuple()):
+    four_bar = is_four_bar(mechanism)
+    kind = Scene if four_bar else scene_of(model_for(mechanism))
+    sc = kind() if scene is None else scene
+    if not isinstance(sc, kind):
+        if four_bar:
+            raise ValueError(f"tolerance: scene = {scene!r} is not a sielaff.Scene")
+        raise ValueError(f"tolerance: scene = {scene!r} is not a {kind_name(mechanism)}'s "
+                         "Scene (sielaff.scene_for(mechanism))")
+    values = mechanism.as_tuple() if four_bar else tuple(mechanism.as_dict().values())
+    if any(np.ndim(v) for v in values):
         raise ValueError("tolerance: one design at a time (the mechanism's fields are arrays)")
     if not isinstance(deviations, dict) or not deviations:
         raise ValueError("tolerance: deviations = {field: size, ...}, at least one field")
-    names = [f for f in FIELD_NAMES if f in deviations]
-    unknown = sorted(set(deviations) - set(FIELD_NAMES))
+    all_fields = _rules(mechanism)[0]
+    wanted = toleranced(mechanism)
+    names = [f for f in all_fields if f in deviations]
+    unknown = sorted(set(deviations) - set(all_fields))
     if unknown:
         raise ValueError(f"tolerance: {unknown[0]} is not a field "
-                         f"(fields: {' '.join(FIELD_NAMES)})")
+                         f"(fields: {' '.join(all_fields)})")
     size = np.array([float(deviations[f]) for f in names])
     for f, s in zip(names, size):
         if not (math.isfinite(s) and s >= 0.0):
@@ -209,7 +252,7 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
     if bad[0]:
         raise ValueError("tolerance: the nominal mechanism is not a linkage")
     nominal = nominal_row[0]
-    if not np.isfinite(nominal[TOLERANCED.index("TORQ_PEAK")]):
+    if not np.isfinite(nominal[wanted.index("TORQ_PEAK")]):
         raise ValueError("tolerance: the nominal crank cannot make a whole revolution")
 
     spans = [(b, s, min(s + size_of_block, n)) for b, s in
@@ -234,7 +277,7 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
     sigma = size / math.sqrt(3.0) if distribution == "uniform" else size.copy()
     # sensitivities: all 2 x fields perturbed designs in one call
     active = [j for j in range(len(names)) if size[j] > 0.0]
-    sens = {f: {name: 0.0 for name in names} for f in TOLERANCED}
+    sens = {f: {name: 0.0 for name in names} for f in wanted}
     if active:
         h = STEP * size[active]
         plus_minus = {name: np.full(2 * len(active), float(getattr(mechanism, name)))
@@ -245,12 +288,12 @@ def tolerance(mechanism: Mechanism, deviations: dict[str, float], n: int = 1000,
         fd, _, _ = _figures_of(mechanism, plus_minus, sc, angles, cf)
         for k, j in enumerate(active):
             d = (fd[2 * k] - fd[2 * k + 1]) / (2.0 * h[k])
-            for i, f in enumerate(TOLERANCED):
+            for i, f in enumerate(wanted):
                 sens[f][names[j]] = float(d[i])
     out: dict[str, dict[str, float]] = {k: {} for k in ("nominal", "mean", "std", "p5", "p95",
                                                          "predicted")}
     valid = {}
-    for i, f in enumerate(TOLERANCED):
+    for i, f in enumerate(wanted):
         col = samples[:, i]
         ok = np.isfinite(col)
         valid[f] = int(ok.sum())

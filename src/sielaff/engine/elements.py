@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
+from sielaff.engine.links import FOUR_BAR_LINKS, link_words, links_by_name
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.values import check_value
 
@@ -43,8 +44,8 @@ def _point(name: str, p: Any) -> tuple[int, float, float]:
         link, r, angle = p
     except (TypeError, ValueError):
         raise ValueError(f"{name} = {p!r}: a point (link, r, angle)") from None
-    if isinstance(link, bool) or link not in (1, 2, 3, 4):
-        raise ValueError(f"{name} link = {link!r}: 1 (the frame), 2, 3 or 4")
+    if isinstance(link, bool) or not isinstance(link, int | np.integer) or link < 1:
+        raise ValueError(f"{name} link = {link!r}: 1 (the frame), 2 (the crank) or more")
     return (int(link), _number(f"{name} r", r), _number(f"{name} angle", angle))
 
 
@@ -130,6 +131,9 @@ def check_elements(v: Any) -> tuple[Spring | Damper, ...]:
 def _place(point, links, rates):
     """(offset from the base pin, position, velocity) of a point, each as (x, y)."""
     link, r, angle = point
+    if link not in links:
+        raise ValueError(f"a spring's or damper's point on link {link}: this linkage's links "
+                         f"are 1 (the frame) to {max(links)}")
     a = np.radians(angle)
     ca, sa = np.cos(a), np.sin(a)
     ln, rt = links[link], rates[link]
@@ -192,7 +196,6 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
 
 _QUANTITIES = {"L": ("length", "length"), "LD": ("speed", "rate of change of the length"),
                "F": ("force", "tension (negative: it pushes)")}
-_LINK_WORDS = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
 
 
 def _numbered(scene: Any) -> list[tuple[str, int, Spring | Damper]]:
@@ -220,17 +223,20 @@ def _summary(scene: Any, units: str) -> str:
     return ", ".join(words)
 
 
-def _point_text(p: tuple[int, float, float], units: str) -> str:
+def _point_text(p: tuple[int, float, float], units: str, words: dict[int, str]) -> str:
     from sielaff.quantities import fmt
 
-    return f"{_LINK_WORDS[p[0]]} {fmt(p[1], 'length', units, '.6g')} at {p[2]:.6g} deg"
+    name = words.get(p[0], f"link {p[0]}")
+    return f"{name} {fmt(p[1], 'length', units, '.6g')} at {p[2]:.6g} deg"
 
 
 def _describe(scene: Any, units: str) -> list[Fact]:
     facts = []
     for kind, k, e in _numbered(scene):
         g = f"{kind.lower()} {k}"
-        facts += [Fact(g, "a", _point_text(e.a, units)), Fact(g, "b", _point_text(e.b, units))]
+        words = link_words(scene)
+        facts += [Fact(g, "a", _point_text(e.a, units, words)),
+                  Fact(g, "b", _point_text(e.b, units, words))]
         if isinstance(e, Spring):
             facts += [Fact(g, "k", e.k, "stiffness"), Fact(g, "free length", e.length, "length")]
         else:
@@ -286,8 +292,9 @@ def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
     return {"elements": out} if out else {}
 
 
-#: The links a spring's or damper's point may be on (the frame is link 1).
-POINT_LINKS = {"frame": 1, "crank": 2, "coupler": 3, "rocker": 4, 1: 1, 2: 2, 3: 3, 4: 4}
+#: The four-bar's links a spring's or damper's point may be on (the frame is link 1);
+#: another model's: its link_names.
+POINT_LINKS = links_by_name(FOUR_BAR_LINKS, frame=True)
 #: Each element's keys besides its points a and b, in the engine's order.
 ELEMENT_KEYS = {"spring": ("k", "length"), "damper": ("c",)}
 
@@ -299,16 +306,19 @@ def _spec_point(where: str, p: Any, reader: Any) -> tuple[int, float, float]:
                            "angle = ... }})")
     p = reader.table(where, p)
     reader.unknown(where, p, ("link", "distance", "angle"))
-    link = reader.name(f"{where} link", p.get("link"), POINT_LINKS,
-                       "frame, crank, coupler or rocker")
-    return (POINT_LINKS[link], reader.number(f"{where} distance", p.get("distance", 0)),
+    names = getattr(reader, "frame_links", None) or POINT_LINKS
+    words = [n for n in names if isinstance(n, str)]
+    link = reader.name(f"{where} link", p.get("link"), names,
+                       ", ".join(words[:-1]) + " or " + words[-1])
+    return (names[link], reader.number(f"{where} distance", p.get("distance", 0)),
             reader.number(f"{where} angle", p.get("angle", 0)))
 
 
 def _write(scene: Any) -> dict[str, Any]:
     out: dict[str, Any] = {}
+    words = link_words(scene)
     for e in scene.elements:
-        item: dict[str, Any] = {key: {"link": _LINK_WORDS[p[0]], "distance": p[1], "angle": p[2]}
+        item: dict[str, Any] = {key: {"link": words[p[0]], "distance": p[1], "angle": p[2]}
                                 for key, p in (("a", e.a), ("b", e.b))}
         if isinstance(e, Spring):
             out.setdefault("spring", []).append(item | {"k": e.k, "length": e.length})

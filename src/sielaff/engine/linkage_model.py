@@ -311,6 +311,7 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
                   full_turn=full_turn)
     model.add(step_of(_crank_angle), step_of(_crank_acceleration), b.steps)
     model.topology = topology  # type: ignore[attr-defined]
+    model.link_names = {k: topology.link_name(k) for k in range(1, links + 1)}
     return model
 
 

@@ -15,7 +15,25 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["FRAME", "FRAME_RATE", "Link", "LinkRate"]
+__all__ = ["FOUR_BAR_LINKS", "FRAME", "FRAME_RATE", "Link", "LinkRate", "link_words",
+           "links_by_name"]
+
+#: The four-bar's links by number, as a spec and the tools name them.
+FOUR_BAR_LINKS = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
+
+
+def link_words(scene_or_model: Any) -> dict[int, str]:
+    """Each link's name in the model of ``scene_or_model`` (a Scene or a Model)."""
+    model = getattr(scene_or_model, "_model", scene_or_model)
+    return getattr(model, "link_names", FOUR_BAR_LINKS)
+
+
+def links_by_name(words: dict[int, str], frame: bool = False) -> dict[Any, int]:
+    """``{name or number: link}`` for a spec's ``link = ...`` (the moving links; with
+    ``frame`` the frame too)."""
+    out: dict[Any, int] = {n: k for k, n in words.items() if frame or k != 1}
+    out.update({k: k for k in words if frame or k != 1})
+    return out
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
+from sielaff.engine.links import FOUR_BAR_LINKS, link_words, links_by_name
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.values import call_checked, check_value
 
@@ -48,8 +49,10 @@ class Load:
     torque: Any = 0.0
 
     def __post_init__(self) -> None:
-        if isinstance(self.link, bool) or self.link not in (2, 3, 4):
-            raise ValueError(f"Load.link = {self.link!r}: loads act on link 2, 3 or 4")
+        if isinstance(self.link, bool) or not isinstance(self.link, int | np.integer) \
+                or self.link < 2:
+            raise ValueError(f"Load.link = {self.link!r}: loads act on a moving link, 2 "
+                             "(the crank) or more")
         for name in ("r", "angle", "fx", "fy", "torque"):
             v = getattr(self, name)
             if not callable(v):
@@ -71,6 +74,9 @@ def _loads(loads, NLOADS, ATH2, links):
     plus the pure torque."""
     per_link: dict[int, list[Any]] = {}
     for load in loads:
+        if load.link not in links:
+            raise ValueError(f"Load.link = {load.link}: this linkage's moving links are 2 to "
+                             f"{max(links)}")
         link = links[load.link]
         c, s = link.c, link.s
         r, fx, fy = load.value("r", ATH2), load.value("fx", ATH2), load.value("fy", ATH2)
@@ -90,9 +96,8 @@ def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
 
 #: The fields of a Load that may vary with the crank angle.
 FIELDS = ("r", "angle", "fx", "fy", "torque")
-#: The links a spec names (the moving ones).
-LINKS_BY_NAME = {"crank": 2, "coupler": 3, "rocker": 4, 2: 2, 3: 3, 4: 4}
-_LINK_WORDS = {2: "crank", 3: "coupler", 4: "rocker"}
+#: The four-bar's links a spec names (the moving ones); another model's: its link_names.
+LINKS_BY_NAME = links_by_name(FOUR_BAR_LINKS)
 
 
 def check_loads(v: Any) -> tuple[Load, ...]:
@@ -128,7 +133,7 @@ def _text(v: Any, kind: str) -> tuple[Any, str | None]:
 def _describe(scene: Any, units: str) -> list[Fact]:
     facts = []
     for i, load in enumerate(scene.loads, 1):
-        g = f"load {i} on the {_LINK_WORDS[load.link]}"
+        g = f"load {i} on the {link_words(scene).get(load.link, f'link {load.link}')}"
         for label, name, kind in (("r", "r", "length"), ("angle", "angle", "angle"),
                                   ("fx", "fx", "force"), ("fy", "fy", "force"),
                                   ("torque", "torque", "torque")):
@@ -145,8 +150,10 @@ def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
         where = f"{path}: [[scene.load]] {n}"
         item = reader.table(where, item)
         reader.unknown(where, item, ("link", "distance", "angle", "force", "torque"))
-        link = LINKS_BY_NAME[reader.name(f"{where} link", item.get("link"), LINKS_BY_NAME,
-                                         "crank, coupler or rocker")]
+        names = getattr(reader, "links", None) or LINKS_BY_NAME
+        words = [n for n in names if isinstance(n, str)]
+        link = names[reader.name(f"{where} link", item.get("link"), names,
+                                 ", ".join(words[:-1]) + " or " + words[-1])]
         force = item.get("force", [0.0, 0.0])
         if not (isinstance(force, list) and len(force) == 2):
             raise reader.error(f"{where} force = {force!r}: [fx, fy]")
@@ -162,7 +169,8 @@ def _read(table: Any, path: str, reader: Any) -> dict[str, Any]:
 
 
 def _write(scene: Any) -> dict[str, Any]:
-    items = [{"link": _LINK_WORDS[ld.link], "distance": float(ld.r), "angle": float(ld.angle),
+    words = link_words(scene)
+    items = [{"link": words[ld.link], "distance": float(ld.r), "angle": float(ld.angle),
               "force": [float(ld.fx), float(ld.fy)], "torque": float(ld.torque)}
              for ld in scene.loads
              if not any(callable(getattr(ld, n)) or np.ndim(getattr(ld, n)) for n in FIELDS)]

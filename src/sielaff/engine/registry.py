@@ -224,6 +224,8 @@ class Model:
         self.counts = counts
         #: The results that need no force analysis (set by the model's module).
         self.kinematics: tuple[str, ...] = ()
+        #: Each link's name (the frame is link 1), as specs and the tools say them.
+        self.link_names: dict[int, str] = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
         self.effects: list[Effect] = []
         self._own: list[Step] = []
         self.calls: Counter[str] = Counter()
@@ -325,6 +327,7 @@ class Model:
                        for e in self.effects]
         new._redo = redo
         new.kinematics = self.kinematics
+        new.link_names = self.link_names
         new._derive()
         return new
 

@@ -14,7 +14,14 @@ from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER, CommandError
 
-__all__ = ["angles", "count", "exact_range", "other_kind", "turns_whole"]
+__all__ = ["angles", "count", "exact_range", "other_kind", "other_kinds", "turns_whole"]
+
+
+def other_kinds() -> tuple[str, ...]:
+    """Every ``[linkage] kind`` besides the four-bar (the engine's models of a kind)."""
+    from sielaff.tools.spec_fields import FOUR_BAR, kind_names
+
+    return tuple(k for k in kind_names() if k != FOUR_BAR)
 
 
 def exact_range(deck: Deck, i: int) -> tuple[Fraction, Fraction, Fraction]:

@@ -164,7 +164,9 @@ def cmd_simulate(args) -> int:
                 from None
     if not spec_path(path):
         raise CommandError(f"{path}: simulate reads a TOML spec with a [motor] table")
-    deck, scene = load_scene(path)
+    from sielaff.tools.kinds import other_kinds
+
+    deck, scene = load_scene(path, kinds=other_kinds())
     try:
         run = motor_of(read_spec(path), path, deck.mechanism.units)
     except PunchError as exc:

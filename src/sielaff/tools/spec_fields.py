@@ -51,10 +51,16 @@ FOUR_BAR = "four-bar"
 
 
 def kind_names() -> dict[str, dict[tuple[str, str, str | None], str]]:
-    """Each ``[linkage] kind`` a spec may name, with where its fields are given."""
-    from sielaff import slider_crank
+    """Each ``[linkage] kind`` a spec may name (the engine's models of a kind), with where
+    its fields are given."""
+    from sielaff.engine.analysis import MODELS
 
-    return {FOUR_BAR: SPEC_NAMES, slider_crank.KIND: slider_crank.SPEC_NAMES}
+    out = {FOUR_BAR: SPEC_NAMES}
+    for model in MODELS:
+        kind = getattr(model.mechanism, "KIND", None)
+        if kind is not None:
+            out[kind] = model.mechanism.SPEC_NAMES  # type: ignore[union-attr]
+    return out
 
 
 def linkage_kind(spec: dict, path: str = "<spec>") -> str:
@@ -165,7 +171,9 @@ def _name(where: str, value, names, say: str | None = None):
     ``where`` and what it may be (``say``, or the names).  The one reader of names: a
     list, a table or a boolean where a name stands is refused, never looked up."""
     if isinstance(value, bool) or not isinstance(value, str | int) or value not in names:
-        choices = say or " or ".join(f'"{n}"' for n in names if isinstance(n, str))
+        words = [f'"{n}"' for n in names if isinstance(n, str)]
+        choices = say or (", ".join(words[:-1]) + " or " + words[-1] if len(words) > 1
+                          else "".join(words))
         raise PunchError(f"{where} = {value!r}: {choices}")
     return value
 
@@ -203,11 +211,12 @@ def spec_values(spec: dict, path: str = "<spec>", names: dict | None = None
         item = spec[section][key]
         where = f"{path}: [{section}] {key}"
         if sub is not None:
+            subs = [s for (t, k, s) in names if (t, k) == (section, key)]
             item = _table(where, item)
-            _unknown(where, item, ("distance", "angle"))
+            _unknown(where, item, subs)
             if sub not in item:
-                raise PunchError(f"{where} has no {sub} (write {key} = "
-                                 "{ distance = ..., angle = ... })")
+                inline = ", ".join(f"{s} = ..." for s in subs)
+                raise PunchError(f"{where} has no {sub} (write {key} = {{ {inline} }})")
             item, where = item[sub], f"{where}.{sub}"
         values[name] = _number(where, item)
     ranges = spec.get("range")

@@ -40,6 +40,16 @@ class _Reader:
         return PunchError(message)
 
 
+def _reader(model: Any) -> type:
+    """The reader for ``model``'s spec: its links by name (loads, springs, dampers)."""
+    from sielaff.engine.links import links_by_name
+
+    class Reader(_Reader):
+        links = links_by_name(model.link_names)
+        frame_links = links_by_name(model.link_names, frame=True)
+    return Reader
+
+
 def _model(kind: str | None = None) -> Any:
     from sielaff.engine.analysis import model_named
     from sielaff.tools.spec_fields import FOUR_BAR
@@ -79,8 +89,9 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
                   tuple(STANDARD_GRAVITY), " or ".join(STANDARD_GRAVITY))
     fields: dict = {"branch": _name(f"{path}: [scene] branch", scene.get("branch", "open"),
                                     ("open", "crossed"))}
+    reader = _reader(_model(kind))
     for effect in _effects(kind):
-        fields.update(effect.spec.read(scene, path, _Reader))
+        fields.update(effect.spec.read(scene, path, reader))
     try:
         return units, scene_type(_model(kind))(**fields)
     except ValueError as exc:

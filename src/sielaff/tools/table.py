@@ -260,7 +260,7 @@ def write_table(deck: Deck, out: TextIO, fmt: str = "csv", kinematics_only: bool
 def cmd_table(args: argparse.Namespace) -> int:
     """``sielaff table DECK [--format csv|json] [--only kinematics] [-o FILE]``."""
     from sielaff.tools.common import load_scene, refuse_overwriting_inputs
-    from sielaff.tools.kinds import turns_whole
+    from sielaff.tools.kinds import other_kinds, turns_whole
     from sielaff.tools.output import atomic_output
 
     refuse_overwriting_inputs(args.output, [args.deck])
@@ -273,7 +273,7 @@ def cmd_table(args: argparse.Namespace) -> int:
     kinematics = args.only == "kinematics"
     deck, scene = load_scene(args.deck, lambda m: columns(kinematics, mechanism=m)[1:],
                              branch=getattr(args, "branch", None), any_kind=True,
-                             kinds=("slider-crank",))
+                             kinds=other_kinds())
 
     def warn(text: str) -> None:
         print(f"sielaff: warning: {text}", file=sys.stderr)

@@ -170,13 +170,14 @@ def cmd_check(args) -> int:
         read_spec_deck,
         refuse_bad_output,
     )
+    from sielaff.tools.kinds import other_kinds
 
     output = getattr(args, "output", None)
     refuse_bad_output(output, [args.deck])  # before any work
     if not input_exists(args.deck):
         raise CommandError(f"{args.deck}: no such deck")
     if is_spec(args.deck):  # a spec: its deck, and its scene for the engine
-        deck, scene = read_spec_deck(args.deck, ("slider-crank",))
+        deck, scene = read_spec_deck(args.deck, other_kinds())
     else:
         deck, scene = read_input_deck(args.deck), Scene()
     if getattr(args, "branch", None):
@@ -184,14 +185,13 @@ def cmd_check(args) -> int:
 
         scene = dataclasses.replace(scene, branch=args.branch)
     if not isinstance(deck.mechanism, Mechanism):  # another kind: its own report
-        from sielaff.tools.check.slider import check_slider, slider_facts
+        from sielaff.tools.check.kinds import check_kind, kind_facts
         from sielaff.tools.kinds import other_kind, turns_whole
 
         if turns_whole(deck.mechanism):  # else the report says why, exit 3
             other_kind(deck, scene)
-        rep = check_slider(deck, scene)
-        text = rep.text if getattr(args, "format", "text") == "text" else slider_facts(
-            deck, rep, scene)
+        rep, facts = check_kind(deck, scene)
+        text = rep.text if getattr(args, "format", "text") == "text" else kind_facts(facts)
         return _finish(rep, text, output)
     rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False),
                      bearing_threshold=getattr(args, "bearing_threshold", None))

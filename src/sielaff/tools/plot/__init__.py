@@ -221,8 +221,12 @@ POLAR_FIGURES = (
      "SHAKE", "SHAK", "DSHAK", False),
 )
 
-#: Link angles, which wrap a revolution: their lines break where they do.
-WRAPPING = ("ATH3", "ATH4")
+
+
+def _turns_fully(m: Any) -> bool:
+    from sielaff.engine import linkage_class
+
+    return bool(linkage_class(m).turns_fully)
 
 
 def _break_wraps(y):
@@ -261,27 +265,35 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
 
     ``only="kinematics"`` gives the kinematic figures instead of the force ones.
     """
-    scene = scene or Scene()
+    from sielaff.engine import scene_for
+    from sielaff.mechanism import Mechanism
+
+    four_bar = isinstance(deck.mechanism, Mechanism)
+    scene = scene or scene_for(deck.mechanism)()
     if only not in (None, "kinematics"):
         raise ValueError(f"only={only!r}: the choices are None and 'kinematics'")
     sub = _subtitle(deck, scene)
     system = deck.mechanism.units
     units = {kind: unit_of(kind, system) for kind in KINDS}
     out: dict[str, PlotData] = {}
+    from sielaff.tools.plot import kinds
+
+    kinematic = KINEMATIC_FIGURES if four_bar else kinds.kinematic_figures(deck.mechanism)
+    polar = POLAR_FIGURES if four_bar else kinds.polar_figures(deck.mechanism)
     if only == "kinematics":
-        names = [n for fig in KINEMATIC_FIGURES for n, _ in fig[3]]
+        names = [n for fig in kinematic for n, _ in fig[3]]
         ath2, v = _evaluate(deck, names, scene)
-        for name, title, ylabel, curves in KINEMATIC_FIGURES:
+        for name, title, ylabel, curves in kinematic:
             out[name] = PlotData(name, f"{title}\n{sub}", "line", ath2, XLABEL,
                                  ylabel.format_map(units),
-                                 series={label: _break_wraps(v[n]) if n in WRAPPING else v[n]
-                                         for n, label in curves})
+                                 series={label: _break_wraps(v[n]) if n.startswith("ATH")
+                                         else v[n] for n, label in curves})
         return out
 
     ath2, v = _evaluate(deck, ["TORQ"], scene)
-    from sielaff.engine import linkage_class
+    from sielaff.tools.kinds import turns_whole
 
-    if linkage_class(deck.mechanism).turns_fully:
+    if _turns_fully(deck.mechanism) if four_bar else turns_whole(deck.mechanism):
         work, abs_work = cycle_work(deck.mechanism, scene=scene)
         work_notes = [f"cycle work \u222e TORQ d\u03b8\u2082 = "
                       f"{work_text(work, abs_work, system)}\n(\u222e |TORQ| d\u03b8\u2082 = "
@@ -301,11 +313,11 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
             pts, analyze(deck.mechanism, pts, ["TORQ"], scene=scene)["TORQ"])
     out[fig12.name] = fig12
 
-    names = sorted({n for fig in POLAR_FIGURES for n in fig[3:5]} | {"ATH4"})
+    names = sorted({n for fig in polar for n in fig[3:5]} | ({"ATH4"} if four_bar else set()))
     ath2, v = _evaluate(deck, names, scene)
     marks = _mark_angles(deck)
     mv = analyze(deck.mechanism, marks, names, scene=scene)
-    for name, title, legend, mag, direction, relative in POLAR_FIGURES:
+    for name, title, legend, mag, direction, relative in polar:
         theta, mark_theta = v[direction], mv[direction]
         if relative:
             theta = np.mod(theta - v["ATH4"], 360.0)
@@ -594,16 +606,23 @@ def write_plots(deck: Deck, directory: str, only: str | None = None,
     return list(images)
 
 
-def _file_names(args) -> list[str]:
-    """The files ``plot`` will write for ``args`` (checked before any work)."""
+def _file_names(args, mechanism: Any = None) -> list[str]:
+    """The files ``plot`` will write for ``args`` (checked before any work but reading the
+    deck: another kind's figures are its own)."""
+    from sielaff.mechanism import Mechanism
+    from sielaff.tools.plot import kinds
+
     if args.linkage or args.animate:
         return (["linkage.png"] + (["linkage.gif"] if args.animate else [])
                 + (["bearings.png"] if args.bearings else []))
     if args.bearings:
         return ["bearings.png"]
+    four_bar = mechanism is None or isinstance(mechanism, Mechanism)
     if args.only == "kinematics":
-        return [f"{fig[0]}.png" for fig in KINEMATIC_FIGURES]
-    return ["fig12-driving-torque.png"] + [f"{fig[0]}.png" for fig in POLAR_FIGURES]
+        figs = KINEMATIC_FIGURES if four_bar else kinds.kinematic_figures(mechanism)
+        return [f"{fig[0]}.png" for fig in figs]
+    polar = POLAR_FIGURES if four_bar else kinds.polar_figures(mechanism)
+    return ["fig12-driving-torque.png"] + [f"{fig[0]}.png" for fig in polar]
 
 
 def cmd_plot(args) -> int:
@@ -635,10 +654,27 @@ def cmd_plot(args) -> int:
         check_targets([os.path.join(args.output, name) for name in _file_names(args)])
     except OSError as exc:
         raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
+    from sielaff.mechanism import Mechanism
+    from sielaff.tools.kinds import other_kinds
+
     deck, scene = load_scene(args.deck, any_linkage=args.linkage or args.animate,
-                             branch=args.branch, any_kind=True)
+                             branch=args.branch, any_kind=True, kinds=other_kinds())
+    other = not isinstance(deck.mechanism, Mechanism)
+    if other:
+        try:
+            check_targets([os.path.join(args.output, n)
+                           for n in _file_names(args, deck.mechanism)])
+        except OSError as exc:
+            raise CommandError(f"sielaff: {exc.filename}: {exc.strerror}") from None
+        if args.bearings or args.point:
+            raise CommandError(f"{args.deck}: {'--bearings' if args.bearings else '--point'} "
+                               f"draws a four-bar's; this is a {deck.mechanism.KIND}")
     paths: list[str] = []
-    if args.linkage or args.animate:  # with --bearings too: both drawings
+    if (args.linkage or args.animate) and other:
+        from sielaff.tools.plot.kinds import write_kind_linkage
+
+        paths += write_kind_linkage(deck, args.output, args.at, scene.branch, args.animate)
+    elif args.linkage or args.animate:  # with --bearings too: both drawings
         from sielaff.tools.plot.linkage import write_linkage
 
         paths += write_linkage(deck, args.output, args.at, args.point, scene.branch,

@@ -73,8 +73,11 @@ def _subtitle(deck: Deck, scene: Scene | None = None) -> str:
     system = getattr(m, "units", "in-lb-sec")
     length = unit("R1", system)
     effects = describe_scene(scene, system)
-    return (f"{os.path.basename(deck.path)}: R1 {m.R1:g}, R2 {m.R2:g}, R3 {m.R3:g}, "
-            f"R4 {m.R4:g} {length}; TH2D {m.TH2D:g} {unit('TH2D', system)}"
+    lengths = [n for n in ("R1", "R2", "R3", "R4", "R5", "R6", "offset")
+               if n in m.as_dict() and (n != "offset" or float(m.offset))]
+    return (f"{os.path.basename(deck.path)}: "
+            + ", ".join(f"{n} {float(getattr(m, n)):g}" for n in lengths)
+            + f" {length}; TH2D {m.TH2D:g} {unit('TH2D', system)}"
             + (f"; {effects}" if effects else ""))
 
 

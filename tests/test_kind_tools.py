@@ -1,0 +1,203 @@
+"""Every kind of linkage through the tools: each spec under decks/ for the slider-crank,
+the inverted slider-crank and the two six-bars read into its kind, through ``table``,
+``check`` (text and JSON), ``plot`` (the figures, the linkage drawn and animated) and
+``simulate``; their scene's effects named by the kind's own links; bad specs one line.
+The numbers are checked against the engine's own analysis of the same fields and against
+the kinds' constructions."""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import DECKS
+from sielaff import (
+    INVERTED_EXAMPLE,
+    SLIDER_EXAMPLE,
+    STEPHENSON_EXAMPLE,
+    WATT_EXAMPLE,
+    analyze,
+    load_spec,
+)
+from sielaff.cli import main
+from sielaff.engine import model_for
+
+KINDS = {"slider-crank": SLIDER_EXAMPLE, "inverted-slider-crank": INVERTED_EXAMPLE,
+         "watt": WATT_EXAMPLE, "stephenson": STEPHENSON_EXAMPLE}
+
+
+def cli(*argv: str) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(list(argv))
+    return status, out.getvalue(), err.getvalue()
+
+
+def spec_with(tmp_path: Path, kind: str, old: str = "", new: str = "", extra: str = "") -> Path:
+    text = (DECKS / f"{kind}.toml").read_text()
+    if old:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / f"{kind}.toml"
+    path.write_text(text + extra)
+    return path
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_each_spec_reads_into_its_example(kind):
+    s = load_spec(str(DECKS / f"{kind}.toml"))
+    assert s.mechanism == KINDS[kind]
+    assert s.ranges == ((0.0, 30.0, 360.0),)
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_table_is_the_engine_on_the_spec(kind):
+    status, out, err = cli("table", str(DECKS / f"{kind}.toml"))
+    assert status == 0 and err == ""
+    rows = list(csv.reader(io.StringIO(out)))
+    model = model_for(KINDS[kind])
+    assert [h.split("[")[0] for h in rows[0][1:]] == list(model.results)
+    body = np.array([[float(x) for x in r[1:]] for r in rows[1:]])
+    th = np.arange(0.0, 361.0, 30.0)
+    r = analyze(KINDS[kind], th)
+    for j, name in enumerate(model.results):
+        assert np.array_equal(body[:, j], np.asarray(r[name]) + 0.0 * th), name
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_check_peaks_are_the_engine_s(kind):
+    status, text, err = cli("check", str(DECKS / f"{kind}.toml"), "--format", "json")
+    assert status == 0 and err == ""
+    facts = json.loads(text)
+    assert facts["kind"] == kind
+    m = KINDS[kind]
+    th = np.arange(0.0, 360.0, 0.001)
+    peaks = facts["peaks"]
+    names = sorted({p["name"] for p in peaks})
+    r = analyze(m, th, names)
+    for p in peaks:
+        v = np.asarray(r[p["name"]])
+        want = v.min() if "most negative" in p["label"] else v.max()
+        assert p["value"] == pytest.approx(float(want), rel=1e-6), p["label"]
+    # every pin of the linkage has its peak (a pin left out fails): O2, then 3 an RRR
+    # (P, Q, C), 2 an RRP or an RPR (RRP: P and C; RPR: P and Q)
+    pins = 1 + sum(3 if type(d).__name__ == "RRR" else 2
+                   for d in model_for(m).topology.dyads)
+    assert sum(p["label"].startswith("pin ") for p in peaks) == pins
+    assert abs(facts["cycle_work"]["value"]) < 1e-9 * facts["cycle_work"]["abs"]
+
+
+def test_check_gives_the_quick_return_by_construction():
+    from sielaff.inverted_slider_crank import quick_return
+
+    status, out, _ = cli("check", str(DECKS / "inverted-slider-crank.toml"))
+    q = quick_return(INVERTED_EXAMPLE)
+    assert status == 0 and f"time ratio {q.time_ratio:.4f}" in out
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_plot_draws_every_pin_force_and_the_linkage(kind, tmp_path):
+    pytest.importorskip("matplotlib")
+    status, out, err = cli("plot", str(DECKS / f"{kind}.toml"), "-o", str(tmp_path / "f"))
+    assert status == 0 and err == "", err
+    files = sorted(Path(p).name for p in out.split())
+    m = KINDS[kind]
+    from sielaff.engine.joints import joints
+
+    pins, _ = joints(model_for(m).topology)
+    assert len(files) == len(pins) + 2  # each pin, the torque, the shaking force
+    assert "fig12-driving-torque.png" in files and "shaking-force.png" in files
+    status, out, err = cli("plot", str(DECKS / f"{kind}.toml"), "-o", str(tmp_path / "l"),
+                           "--linkage", "--at", "40,200")
+    assert status == 0 and err == "", err
+    assert (tmp_path / "l" / "linkage.png").stat().st_size > 10_000
+
+
+def test_plot_animates_a_slider_crank(tmp_path):
+    pytest.importorskip("matplotlib")
+    status, out, err = cli("plot", str(DECKS / "slider-crank.toml"), "-o", str(tmp_path),
+                           "--animate")
+    assert status == 0 and err == ""
+    data = (tmp_path / "linkage.gif").read_bytes()
+    assert data[:6] == b"GIF89a"
+    from PIL import Image
+
+    assert Image.open(tmp_path / "linkage.gif").n_frames == 36
+
+
+def test_plot_kinematics_of_a_six_bar(tmp_path):
+    pytest.importorskip("matplotlib")
+    status, out, _ = cli("plot", str(DECKS / "watt.toml"), "-o", str(tmp_path), "--only",
+                         "kinematics")
+    assert status == 0
+    assert {Path(p).name for p in out.split()} >= {"kin-link-angles.png",
+                                                   "kin-pin-velocity.png"}
+
+
+def test_a_scene_names_the_kinds_own_links(tmp_path):
+    """A load on link5 and a spring to the lever: read by the kind's names, the table the
+    engine's with the same Scene."""
+    from sielaff import Load, PinFriction, Spring, scene_for
+
+    path = spec_with(tmp_path, "watt", extra=(
+        '\n[scene]\ngravity = "down"\n[[scene.load]]\nlink = "link5"\ndistance = 3.0\n'
+        'force = [0.0, -50.0]\n[scene.friction]\nmu = 0.1\nradius = 0.25\n'))
+    s = load_spec(str(path))
+    want = scene_for(WATT_EXAMPLE)(gravity="down", loads=[Load(5, r=3.0, fy=-50.0)],
+                                   friction=PinFriction(0.1, 0.25))
+    assert s.scene == want
+    status, out, err = cli("table", str(path))
+    assert status == 0, err
+    head = out.splitlines()[0].split(",")
+    assert "TORQ_LOADS[in-lb]" in head and "PLOSS_D[in-lb/sec]" in head
+    path = spec_with(tmp_path, "inverted-slider-crank", extra=(
+        '\n[[scene.spring]]\na = { link = "frame", distance = 20.0, angle = 90.0 }\n'
+        'b = { link = "lever", distance = 10.0, angle = 0.0 }\nk = 5.0\nlength = 12.0\n'))
+    s = load_spec(str(path))
+    assert s.scene.elements == (Spring((1, 20.0, 90.0), (4, 10.0, 0.0), 5.0, 12.0),)
+    assert cli("check", str(path))[0] == 0
+
+
+@pytest.mark.parametrize(("kind", "old", "new", "says"), [
+    ("watt", "link5 = 10.0 ", "link5 = 40.0 ", "cannot close at any crank angle"),
+    ("watt", "O6 = { x = 4.0, y = 14.0 }", "O6 = { x = 4.0 }", "[pivots] O6 has no y"),
+    ("stephenson", "C = { distance = 10.0, angle = 25.0 }", "C = { r = 10.0 }",
+     "[points] C: unknown key 'r'"),
+    ("inverted-slider-crank", "frame = 10.0 ", "frame = -10.0 ", "InvertedSliderCrank.R1 = "
+     "-10 in: must be > 0"),
+    ("inverted-slider-crank", "[linkage]", "[[scene.load]]\nlink = \"rod\"\n\n[linkage]",
+     "[[scene.load]] 1 link = 'rod': crank, block or lever"),
+])
+def test_bad_kind_specs_are_one_line(tmp_path, kind, old, new, says):
+    path = spec_with(tmp_path, kind, old, new)
+    for command in ("table", "check"):
+        status, out, err = cli(command, str(path))
+        assert status == 2 and out == "", (command, err)
+        assert err.count("\n") == 1 and says in err, (command, err)
+
+
+def test_a_six_bar_that_cannot_turn_is_checked_exit_3(tmp_path):
+    path = spec_with(tmp_path, "watt", "link6 = 9.0 ", "link6 = 4.0 ")
+    path.write_text(path.read_text().replace("link5 = 10.0 ", "link5 = 6.0 "))
+    status, out, err = cli("check", str(path))
+    assert status == 3 and err.count("\n") == 1 and "cannot turn fully" in out
+    status, out, err = cli("table", str(path))
+    assert status == 0 and "positions left out" in err
+
+
+def test_simulate_a_slider_crank_spec(tmp_path):
+    pytest.importorskip("scipy")
+    path = spec_with(tmp_path, "slider-crank", extra=(
+        '\n[motor]\nkind = "linear"\nstall_torque = 800.0\nno_load_speed = 350.0\n'
+        "flywheel = 0.05\nspeed = 300.0\nrevolutions = 2\n"))
+    status, out, err = cli("simulate", str(path))
+    assert status == 0 and "2 revolutions in" in err
+    rows = list(csv.reader(io.StringIO(out)))
+    assert rows[0][:3] == ["t[s]", "ATH2[deg]", "TH2D[rad/sec]"]
+    assert float(rows[-1][1]) == pytest.approx(720.0, abs=1e-6)
