@@ -71,7 +71,7 @@ def layer(name: str) -> float:
         return 7
     if name == "sielaff.cli":
         return 6
-    if name == "sielaff.tools.report":
+    if name == "sielaff.tools.report" or name.startswith("sielaff.tools.report."):
         return 5.5  # composes other commands' pages (check, plot, balance); none imports it
     if name.startswith("sielaff.tools."):
         return 5 if name not in SHARED_TOOLS else 4

@@ -121,6 +121,9 @@ def test_friction_that_is_off_costs_nothing():
     assert "_joint_friction" not in model.calls
     for name in plain:
         np.testing.assert_array_equal(plain[name], off[name])
+    # the scene says so as the four-bar's does (check and report ask it)
+    assert not scene_for(m)(friction=PinFriction(0.0, 1.0)).has_friction
+    assert scene_for(m)(friction=PinFriction(0.1, 1.0)).has_friction
 
 
 def _slide_solutions(m, th, mu, fex):

@@ -11,12 +11,13 @@ import contextlib
 import csv
 import io
 import json
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import DECKS
+from conftest import DECKS, tiered
 from sielaff import (
     INVERTED_EXAMPLE,
     SLIDER_EXAMPLE,
@@ -201,3 +202,86 @@ def test_simulate_a_slider_crank_spec(tmp_path):
     rows = list(csv.reader(io.StringIO(out)))
     assert rows[0][:3] == ["t[s]", "ATH2[deg]", "TH2D[rad/sec]"]
     assert float(rows[-1][1]) == pytest.approx(720.0, abs=1e-6)
+
+
+def _page_text(path: Path) -> str:
+    import html
+
+    s = re.sub(r"<img[^>]*>", " ", path.read_text())
+    return " ".join(html.unescape(re.sub(r"<[^>]+>", " ", s)).split())
+
+
+@pytest.mark.parametrize("kind", tiered(sorted(KINDS), ["slider-crank"]))
+def test_report_of_every_kind(kind, tmp_path):
+    """The page of each kind: the linkage drawn where it assembles, a peaks row for every
+    pin of its topology with the engine's peak, a polar figure of every pin force, check's
+    report whole, and its balancing (a slider-crank's counterweight, else why none)."""
+    pytest.importorskip("matplotlib")
+    from sielaff.design.slider_balance import slider_balance
+    from sielaff.engine.joints import joints
+    from sielaff.engine.linkage_model import _renamer
+    from sielaff.tools.check.kinds import check_kind
+    from sielaff.tools.common import load_scene
+    from sielaff.tools.kinds import other_kinds
+    from sielaff.tools.plot.kinds import polar_figures
+
+    page = tmp_path / "r.html"
+    status, out, err = cli("report", str(DECKS / f"{kind}.toml"), "-o", str(page))
+    assert (status, out, err) == (0, "", "")
+    text = _page_text(page)
+    m = KINDS[kind]
+    assert "The linkage at THETA 2 = 40 deg (open branch)" in text
+    assert text.count('src="data:image/gif') == 0  # the text has no images left
+    assert page.read_text().count("data:image/gif;base64,") == 1
+    r = analyze(m, np.arange(0.0, 360.0, 0.1))
+    rename = _renamer(model_for(m).topology)
+    pins, _ = joints(model_for(m).topology)
+    for j in pins:
+        name = rename(j.name)
+        got = re.search(rf"load on pin {j.point} \({name}\) ([-0-9.e+]+) (lb|N) ", text)
+        assert got, name
+        assert float(got[1]) == pytest.approx(float(np.max(r[name])), rel=1e-3)
+    for _stem, title, *_ in polar_figures(m):
+        assert title in text, title
+    deck, scene = load_scene(str(DECKS / f"{kind}.toml"), kinds=other_kinds())
+    assert " ".join(check_kind(deck, scene)[0].text.split()) in text
+    if kind == "slider-crank":
+        b = slider_balance(m)
+        assert "Crank counterweight of a slider-crank" in text
+        assert f"{b.counterweight.weight:.4g}" in text
+    else:
+        assert "No balancing is offered" in text
+
+
+def test_report_of_a_kind_that_never_assembles_is_refused_as_check_refuses_it(tmp_path):
+    """A kind is read only if every dyad closes somewhere: report says why in check's one
+    line (exit 2) and writes no page."""
+    pytest.importorskip("matplotlib")
+    # C to D and O6 to D an inch each: D never closes (O6 is some 10 in from C at best)
+    path = spec_with(tmp_path, "watt", "link5 = 10.0 ", "link5 = 1.0 ")
+    path.write_text(path.read_text().replace("link6 = 9.0 ", "link6 = 1.0 "))
+    page = tmp_path / "r.html"
+    status, out, err = cli("report", str(path), "-o", str(page))
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "the RRR dyad at D (links 5 and 6) cannot close at any crank angle" in err
+    assert not page.exists()
+    assert cli("check", str(path))[2] == err
+
+
+def test_the_commands_said_to_take_every_kind_do(tmp_path):
+    """The one list (spec_fields.KIND_COMMANDS) a refusal and check's verdict give."""
+    from sielaff.tools.spec_fields import KIND_COMMANDS
+
+    path = spec_with(tmp_path, "slider-crank", extra=(
+        '\n[motor]\nkind = "linear"\nstall_torque = 800.0\nno_load_speed = 350.0\n'
+        "flywheel = 0.05\nspeed = 300.0\nrevolutions = 1\n"))
+    args = {"plot": ["-o", str(tmp_path / "f")], "report": ["-o", str(tmp_path / "r.html")]}
+    for command in KIND_COMMANDS:
+        if command in ("plot", "report"):
+            pytest.importorskip("matplotlib")
+        if command == "simulate":
+            pytest.importorskip("scipy")
+        status, _, err = cli(command, str(path), *args.get(command, []))
+        assert status == 0, (command, err)
+    status, _, err = cli("punch", str(path))
+    assert status == 2 and f"sielaff {', '.join(KIND_COMMANDS)}" in err

@@ -43,7 +43,7 @@ def test_the_synthesis_pareto_figure_marks_and_does_not_join(monkeypatch):
     from sielaff.tools import report
 
     kept = []
-    monkeypatch.setattr(report, "_png", lambda fig: kept.append(fig) or b"")
+    monkeypatch.setattr(report, "png", lambda fig: kept.append(fig) or b"")
     from conftest import DECKS
     from sielaff.tools.synth import synthesize
 

@@ -444,7 +444,8 @@ def test_the_si_peaks_and_scene_carry_si_units():
     tier's): the peaks table and the scene section of decks/si.toml, made by the report's
     own functions, name SI units only."""
     from sielaff.tools.common import read_spec_deck
-    from sielaff.tools.report import _peaks_table, peak_rows, scene_section
+    from sielaff.tools.report import peak_rows, scene_section
+    from sielaff.tools.report import peaks_table as _peaks_table
     from test_units import REPORT_UNIT
 
     deck, scene = read_spec_deck(str(DECKS / "si.toml"))

@@ -62,8 +62,10 @@ class SceneBase:
 
     @property
     def has_friction(self) -> bool:
-        """Whether some pin has friction (mu r > 0): the friction effect's rule."""
-        return self._model.effect("pin friction").is_on(self)
+        """Whether some joint has friction: the rule of the model's friction effect ("pin
+        friction" on the four-bar, "joint friction" on a linkage of dyads)."""
+        return any(e.is_on(self) for e in self._model.effects
+                   if e.name in ("pin friction", "joint friction"))
 
     def per_position(self) -> list[tuple[str, Any]]:
         """The (field, array) pairs that vary with the crank angle (arrays of ndim > 0)."""

@@ -468,7 +468,7 @@ def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
     import dataclasses
 
     from sielaff.tools.spec import PunchError, scene_of, spec_deck
-    from sielaff.tools.spec_fields import FOUR_BAR, linkage_kind
+    from sielaff.tools.spec_fields import FOUR_BAR, KIND_COMMANDS, linkage_kind
 
     if not input_exists(path):
         raise CommandError(f"{path}: no such spec")
@@ -476,8 +476,9 @@ def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
         spec = read_spec(path)
         kind = linkage_kind(spec, path)
         if kind != FOUR_BAR and kind not in kinds:
+            takers = ", ".join(KIND_COMMANDS[:-1]) + " and " + KIND_COMMANDS[-1]
             raise PunchError(f'{path}: [linkage] kind = "{kind}": this command takes a '
-                             f"four-bar only so far (sielaff table and check take a {kind})")
+                             f"four-bar only so far (sielaff {takers} take a {kind})")
         units, scene = scene_of(spec, path)
         own = None if read is None else read(spec, path)
         made = spec_deck(spec, path) if deck else None

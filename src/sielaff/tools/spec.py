@@ -169,8 +169,11 @@ def punch_deck(spec: dict, path: str = "<spec>", any_units: bool = False) -> str
     keep the spec's unit system beside it and judge the linkage's kind themselves."""
     kind = linkage_kind(spec, path)
     if kind != FOUR_BAR:
+        from sielaff.tools.spec_fields import KIND_COMMANDS
+
         raise PunchError(f'{path}: [linkage] kind = "{kind}": a 1966 deck is a four-bar\'s; '
-                         "the modern tools (sielaff table, check) read this spec directly")
+                         f"the modern tools (sielaff {', '.join(KIND_COMMANDS)}) read this spec "
+                         "directly")
     values, ranges, prefix = spec_values(spec, path)
     scene = spec.get("scene")
     if not any_units and isinstance(scene, dict) and scene.get("units", "in-lb-sec") != \

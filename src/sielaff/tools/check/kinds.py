@@ -244,7 +244,9 @@ def check_kind(deck: Any, scene: Any) -> tuple[CheckReport, dict[str, Any]]:
                            "unit": unit_of("work", system)}
     _effects(m, scene, rep, facts)
     rep.add()
-    rep.add("Verdict: usable (sielaff table, check, plot, simulate); not a 1966 deck (sielaff "
+    from sielaff.tools.spec_fields import KIND_COMMANDS
+
+    rep.add(f"Verdict: usable (sielaff {', '.join(KIND_COMMANDS)}); not a 1966 deck (sielaff "
             "run and punch take four-bars)")
     facts.update(status=rep.status, error=rep.error, lines=rep.lines)
     return rep, facts

@@ -12,7 +12,8 @@ import numpy as np
 
 from sielaff.emulator.cards import Deck
 
-__all__ = ["drawing_data", "kinematic_figures", "polar_figures", "write_kind_linkage"]
+__all__ = ["branch_words", "drawing_data", "kind_linkage_images", "kinematic_figures",
+           "polar_figures", "write_kind_linkage"]
 
 
 def _topology(m: Any) -> Any:
@@ -215,11 +216,24 @@ def write_kind_linkage(deck: Deck, directory: str, at: Any = None, branch: Any =
     """``linkage.png`` (and ``linkage.gif``, one cycle, with ``animate``) for another
     kind, all or none.  ``at``: the crank angles drawn [deg] (None: 40, or the middle of
     the first arc where it assembles); none that assembles is a CommandError."""
-    import io
     import os
 
+    from sielaff.tools.plot.render import write_files
+
+    images = {os.path.join(directory, name): data
+              for name, data in kind_linkage_images(deck, at, branch, animate)[0].items()}
+    write_files(images)
+    return list(images)
+
+
+def kind_linkage_images(deck: Deck, at: Any = None, branch: Any = "open",
+                        animate: bool = False) -> tuple[dict[str, bytes], np.ndarray]:
+    """The images of :func:`write_kind_linkage` ({"linkage.png": PNG bytes, and
+    "linkage.gif" with ``animate``}) and the crank angles drawn [deg]."""
+    import io
+
     from sielaff.tools.plot.linkage import _gif
-    from sielaff.tools.plot.render import _pyplot, _subtitle, write_files
+    from sielaff.tools.plot.render import _pyplot, _subtitle
 
     plt = _pyplot()
     arcs = _arcs(deck, branch)
@@ -244,7 +258,7 @@ def write_kind_linkage(deck: Deck, directory: str, at: Any = None, branch: Any =
     sweep = _sweep(arcs)
     path = drawing_data(deck, sweep, branch)
     sub = _subtitle(deck)
-    images = {}
+    images: dict[str, bytes] = {}
 
     def picture(ks: list[int], still: bool) -> bytes:
         """The drawing at the angle indices ``ks`` of the still picture (``still``) or of
@@ -266,7 +280,7 @@ def write_kind_linkage(deck: Deck, directory: str, at: Any = None, branch: Any =
                 if not name.startswith("G") and np.isfinite(x[ks[0]]):
                     ax.annotate(name, (float(x[ks[0]]), float(y[ks[0]])), xytext=(7, 7),
                                 textcoords="offset points", fontsize=9)
-            ax.set_title(f"The {path['title']} ({_branch_words(branch)}) at THETA 2 = "
+            ax.set_title(f"The {path['title']} ({branch_words(branch)}) at THETA 2 = "
                          + ", ".join(f"{shown[k]:g}" for k in ks) + f" deg\n{sub}",
                          fontsize=10)
             ax.set_xlabel(f"x ({_unit(deck)}), along the frame's line from O2")
@@ -285,7 +299,7 @@ def write_kind_linkage(deck: Deck, directory: str, at: Any = None, branch: Any =
     frames = data
     cycle = at
     limits = ((0.0, 1.0), (0.0, 1.0))
-    images[os.path.join(directory, "linkage.png")] = picture(list(range(len(at))), True)
+    images["linkage.png"] = picture(list(range(len(at))), True)
     if animate:
         cycle = sweep[np.isfinite(sweep)][::max(1, len(sweep) // 36)][:36]
         frames = drawing_data(deck, cycle, branch)
@@ -298,12 +312,12 @@ def write_kind_linkage(deck: Deck, directory: str, at: Any = None, branch: Any =
         for k in range(len(cycle)):
             raw = picture([k], False)
             pictures.append(np.frombuffer(raw, dtype=np.uint8).reshape(400, 560, 4)[..., :3])
-        images[os.path.join(directory, "linkage.gif")] = _gif(pictures, fps=12)
-    write_files(images)
-    return list(images)
+        images["linkage.gif"] = _gif(pictures, fps=12)
+    return images, at
 
 
-def _branch_words(branch: Any) -> str:
+def branch_words(branch: Any) -> str:
+    """The branch in words: "open branch", or "branches open, crossed" (one per dyad)."""
     return f"{branch} branch" if isinstance(branch, str) else \
         "branches " + ", ".join(branch)
 

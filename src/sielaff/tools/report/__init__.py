@@ -47,7 +47,6 @@ command.
 
 from __future__ import annotations
 
-import base64
 import html
 import io
 import os
@@ -58,87 +57,13 @@ import numpy as np
 
 from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
-from sielaff.quantities import fmt
-
-#: The page's style: print-friendly, no web fonts (nothing is fetched).
-STYLE = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto;
-       max-width: 62em; color: #111; line-height: 1.4; }
-h1 { font-size: 1.6em; margin-bottom: 0.2em; }
-h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; margin-top: 2em; }
-.sub { color: #444; margin-top: 0; }
-pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.82em;
-      white-space: pre-wrap; }
-table { border-collapse: collapse; font-size: 0.92em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; }
-figure { margin: 1em 0; page-break-inside: avoid; }
-figure img { max-width: 100%; box-sizing: border-box; border: 1px solid #eee; }
-figcaption { color: #444; font-size: 0.9em; }
-.wide { overflow-x: auto; }
-table.small { font-size: 0.8em; }
-footer { margin-top: 3em; color: #555; font-size: 0.85em; border-top: 1px solid #ccc; }
-@media print {
-  body { margin: 0; max-width: none; } h2 { page-break-after: avoid; }
-  /* a printed page cannot scroll: wide tables shrink and wrap to its width */
-  .wide { overflow: visible; }
-  table { max-width: 100%; }
-  table.small { font-size: 0.58em; width: 100%; table-layout: fixed; }
-  table.small th, table.small td { padding: 0.1em 0.15em; overflow-wrap: anywhere; }
-}
-"""
-
-def _img(data: bytes, mime: str, alt: str) -> str:
-    b64 = base64.b64encode(data).decode("ascii")
-    return f'<img src="data:{mime};base64,{b64}" alt="{html.escape(alt)}">'
-
-
-def _figure(data: bytes, mime: str, caption: str) -> str:
-    return (f"<figure>{_img(data, mime, caption)}<figcaption>{html.escape(caption)}"
-            "</figcaption></figure>")
-
-
-def _png(fig: Any) -> bytes:
-    from sielaff.tools.plot.render import _pyplot
-
-    buf = io.BytesIO()
-    try:
-        fig.savefig(buf, format="png")
-    finally:
-        _pyplot().close(fig)
-    return buf.getvalue()
-
-
-def peak_rows(deck: Deck, scene: Scene, n: int = 3600) -> list[Any]:
-    """The peaks table's rows (:func:`sielaff.design.peaks.peaks`): over the angles the
-    linkage reaches, a quantity that grows without bound toward a toggle given as such."""
-    from sielaff.design.peaks import peaks
-
-    return peaks(deck.mechanism, scene, n)
-
-
-def _peaks_table(rows: list[Any]) -> str:
-    out = ["<table><tr><th>peak</th><th>value</th><th>unit</th><th>at THETA 2</th></tr>"]
-    for p in rows:
-        if p.unbounded:
-            where = ", ".join(f"{t:.2f} deg (GAMMA {g:.0f} deg)"
-                              for t, g in zip(p.toggles, p.gamma))
-            out.append(f"<tr><td>{html.escape(p.label)}</td><td>unbounded</td>"
-                       f"<td>{html.escape(p.unit)}</td><td>grows without bound toward the "
-                       f"toggle{'s' if len(p.toggles) > 1 else ''} at "
-                       f"{html.escape(where)}</td></tr>")
-        else:
-            out.append(f"<tr><td>{html.escape(p.label)}</td><td>{p.value:.5g}</td>"
-                       f"<td>{html.escape(p.unit)}</td><td>{p.at:.1f} deg</td></tr>")
-    out.append("</table>")
-    if any(p.unbounded for p in rows):
-        out.append("<p>At a toggle the coupler and the rocker are in line (the transmission "
-                   "angle GAMMA is 0 or 180 deg): a crank that keeps turning cannot drive "
-                   "the rocker through it, and the rates and the forces grow without bound "
-                   "as THETA 2 nears it.  Those rows give no number: the largest value "
-                   "depends only on how near to the toggle one looks.</p>")
-    return "\n".join(out)
-
+from sielaff.tools.report.page import figure, head, page, png
+from sielaff.tools.report.sections import (  # noqa: F401  (tests read them here)
+    motor_section,
+    peak_rows,
+    peaks_table,
+    scene_section,
+)
 
 #: Frames of the page's animation: 15 degrees apart for a crank that turns fully (a page
 #: is read, not played; ``plot --animate`` draws 36).
@@ -191,7 +116,7 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     buf = io.BytesIO()
     _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses,
           designs=data[:, cols.index("DESIGN")])
-    return out + rows + [_figure(buf.getvalue(), "image/png",
+    return out + rows + [figure(buf.getvalue(), "image/png",
                                  f"The sweep's designs and the Pareto front of {px} and {py}")]
 
 
@@ -344,7 +269,7 @@ def _candidates_figure(done: Any, at: float) -> bytes:
             t.set_fontsize(7)
     fig.suptitle(f"The best {len(show)} of {len(r)} candidates at THETA 2 = {at:g} deg, "
                  f"ranked by {', '.join(r.by)} (dashed: the path of G3)", fontsize=10)
-    return _png(fig)
+    return png(fig)
 
 
 def _pareto_figure(done: Any) -> bytes:
@@ -386,7 +311,7 @@ def _pareto_figure(done: Any) -> bytes:
     ax.legend(loc="best", fontsize=9)
     ax.set_title(f"The candidates in {px} and {py}; #k: rank by {', '.join(r.by)}",
                  fontsize=10)
-    return _png(fig)
+    return png(fig)
 
 
 def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40.0) -> str:
@@ -399,7 +324,7 @@ def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40
     effects = describe_scene(done.scene, done.units) or "the 1966 scene (no gravity, no " \
         "loads, constant crank speed)"
     turning = int(np.isfinite(r.figures[r.by[0]]).sum())
-    parts = _head(os.path.basename(path)) + [
+    parts = head(os.path.basename(path)) + [
         f'<p class="sub">A synthesis ({html.escape(task["problem"])}) in '
         f"{html.escape(done.units)} units; scene: {html.escape(effects)}.</p>",
         "<h2>The ranking</h2>",
@@ -419,52 +344,16 @@ def synthesis_html(done: Any, path: str, text: str, command: str, at: float = 40
         parts.append(f"<p>Without a solution: {html.escape(line)}</p>")
     parts += [
         "<h2>The best candidates</h2>",
-        _figure(_candidates_figure(done, at), "image/png",
+        figure(_candidates_figure(done, at), "image/png",
                 f"The best candidates at THETA 2 = {at:g} deg"),
-        _figure(_pareto_figure(done), "image/png",
+        figure(_pareto_figure(done), "image/png",
                 f"The Pareto front of {r.pareto_by[0]} and {r.pareto_by[1]}"),
         "<p>A whole page for a candidate: <code>sielaff synth SPEC --write-best DIR</code>, "
         "then <code>sielaff report DIR/best-1.toml</code>.</p>",
         "<h2>The spec</h2>",
         f"<pre>{html.escape(text)}</pre>",
     ]
-    return _page(parts, command)
-
-
-def _head(name: str) -> list[str]:
-    """The page's head and its title: ``name`` is the input file's."""
-    return [
-        "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
-        # nothing may load from anywhere: images are data: URIs, the style is inline
-        '<meta http-equiv="Content-Security-Policy" content="default-src \'none\'; '
-        'img-src data:; style-src \'unsafe-inline\'">',
-        '<meta name="viewport" content="width=device-width, initial-scale=1">',
-        f"<title>sielaff report: {html.escape(name)}</title>",
-        f"<style>{STYLE}</style>", "</head>", "<body>",
-        f"<h1>sielaff report: {html.escape(name)}</h1>",
-    ]
-
-
-def _page(parts: list[str], command: str) -> str:
-    """``parts`` (from :func:`_head` on) with the footer: the version and the command."""
-    from sielaff.version import __version__
-
-    return "\n".join(parts + [
-        f"<footer>Made by sielaff {html.escape(__version__)} on {made_on()} with "
-        f"<code>{html.escape(command)}</code>.</footer>", "</body>", "</html>", ""])
-
-
-def made_on() -> str:
-    """The page's date: now, or ``SOURCE_DATE_EPOCH`` when set (a page made twice from
-    the same input is then the same bytes: reproducible builds' convention)."""
-    import time
-
-    epoch = os.environ.get("SOURCE_DATE_EPOCH")
-    try:
-        when = time.gmtime(int(epoch)) if epoch else time.gmtime()
-    except (ValueError, OverflowError, OSError):
-        when = time.gmtime()
-    return time.strftime("%Y-%m-%d %H:%M UTC", when)
+    return page(parts, command)
 
 
 def report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
@@ -492,7 +381,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
     c = linkage_class(m)
     effects = describe_scene(scene, m.units) or "the 1966 scene (constant crank speed, " \
         "no gravity, TEX = 0 the only load, the open branch)"
-    parts = _head(name) + [
+    parts = head(name) + [
         f'<p class="sub">A {html.escape(c.kind)} in {html.escape(m.units)} units; '
         f"scene: {html.escape(effects)}.</p>",
     ]
@@ -509,24 +398,24 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
         fig = _draw_linkage(plt, linkage_data(deck, (where,), (), scene.branch))
         why = "" if at is not None or where == DEFAULT_AT else (
             f" (the middle of the first arc where it assembles; not at {DEFAULT_AT:g} deg)")
-        parts.append(_figure(_png(fig), "image/png",
+        parts.append(figure(png(fig), "image/png",
                              f"The linkage at THETA 2 = {where:.6g} deg{why} "
                              f"({scene.branch} branch)"))
-        parts.append(_figure(_animation(plt, deck, (), scene.branch, frames=FRAMES),
+        parts.append(figure(_animation(plt, deck, (), scene.branch, frames=FRAMES),
                              "image/gif", f"One cycle of the linkage (the angles it "
                                           f"reaches, {FRAMES} frames)"))
     # peaks
     rows = peak_rows(deck, scene)
     if rows:
         parts.append("<h2>Peaks</h2>")
-        parts.append(_peaks_table(rows))
+        parts.append(peaks_table(rows))
     # the report's figures and the bearings (they need a crank that turns fully)
     if c.turns_fully:
         parts.append("<h2>Figures</h2>")
         for d in plot_data(deck, None, scene).values():
-            parts.append(_figure(render_png(d), "image/png", d.title.split("\n")[0]))
+            parts.append(figure(render_png(d), "image/png", d.title.split("\n")[0]))
         fig, _ = bearings_figure(deck, scene)
-        parts.append(_figure(_png(fig), "image/png",
+        parts.append(figure(png(fig), "image/png",
                              "Bearing loads relative to each member (shaded: never loaded)"))
     else:
         parts.append("<p>The crank cannot turn a whole revolution: the revolution figures, "
@@ -548,75 +437,7 @@ def report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
         parts += motor_section(deck, scene, motor)
     if tolerances is not None:
         parts += tolerance_section(deck, scene, tolerances)
-    return _page(parts, command)
-
-
-def motor_section(deck: Deck, scene: Scene, run: dict) -> list[str]:
-    """A ``[motor]`` spec's simulation as ``sielaff simulate`` runs it: what happened, the
-    speed, torques and power against time, and the motor sizing."""
-    from sielaff.tools.plot.render import _pyplot
-    from sielaff.tools.simulate import draw
-
-    m = deck.mechanism
-    out = ["<h2>The motor</h2>",
-           f"<p>{html.escape(run['motor'].describe(m.units))}; flywheel "
-           f"{html.escape(fmt(run['flywheel'], 'inertia', m.units, '.6g'))}; "
-           + ("the periodic steady state" if run["steady"] else
-              f"{run['revolutions']:g} revolutions from "
-              + ("the deck's TH2D" if run["speed"] is None else
-                 html.escape(fmt(run["speed"], "rate", m.units, ".6g"))))
-           + ".</p>"]
-    try:
-        import scipy  # noqa: F401
-    except ImportError:
-        return out + ['<p>Not simulated here: simulate needs scipy (pip install -e '
-                      '".[dynamics]").</p>']
-    from sielaff.dynamics import SimulationError, simulate
-    from sielaff.dynamics.sizing import FIGURES, sizing
-
-    try:
-        r = simulate(m, run["motor"], flywheel=run["flywheel"], scene=scene,
-                     speed0=run["speed"], revolutions=run["revolutions"],
-                     steady=run["steady"], outputs=["TORQ"], method=run["method"],
-                     rtol=run["rtol"])
-    except SimulationError as exc:
-        return out + [f"<p>Not simulated: {html.escape(str(exc))}</p>"]
-    plt = _pyplot()
-    fig = plt.figure(figsize=(8, 7.5))
-    draw(fig, r)
-    fig.tight_layout()
-    out.append(f"<p>{html.escape(r.message)}.</p>")
-    out.append(_figure(_png(fig), "image/png",
-                       "The crank speed, the torques and the motor's power against time"))
-    s = sizing(r)
-    rows = [f"<tr><td>{html.escape(words)}</td><td>{s[key]:.6g}</td>"
-            f"<td>{html.escape(s['units'][key])}</td></tr>"
-            for key, words, _ in FIGURES if key in s]
-    out += [f"<p>Motor sizing over {html.escape(s['window'])}:</p>",
-            "<table><tr><th>figure</th><th>value</th><th>unit</th></tr>", *rows,
-            "</table>"]
-    out += [f"<p><b>Warning:</b> {html.escape(w)}.</p>" for w in s["warnings"]]
-    return out
-
-
-def scene_section(m: Any, scene: Scene, figures: bool) -> list[str]:
-    """The scene's effects as each declares itself (its parameters with their units, its
-    figures over a revolution when the crank turns fully): check's lines, as a table."""
-    from sielaff.design.effects import effect_facts
-    from sielaff.engine.declare import fact_lines
-
-    facts = effect_facts(m, scene, figures=figures)
-    if not facts:
-        return []
-    rows = []
-    for f in facts:
-        lines = fact_lines(f.parameters, m.units, "") + fact_lines(f.figures, m.units, "")
-        rows.append(f"<tr><th>{html.escape(f.name)}</th><td>{html.escape(f.summary)}</td>"
-                    f"<td>{'<br>'.join(html.escape(x) for x in lines)}</td></tr>")
-    return ["<h2>The scene</h2>",
-            "<table><tr><th>effect</th><th>in brief</th><th>its parameters and figures"
-            + (" (over one revolution)" if figures else "") + "</th></tr>",
-            *rows, "</table>"]
+    return page(parts, command)
 
 
 def _spec_tables(path: str) -> set[str]:
@@ -673,9 +494,17 @@ def cmd_report(args: Any) -> int:
 
             deck, scene, task = tolerance_spec(args.deck)  # checks the nominal design
         else:
-            deck, scene = load_scene(args.deck, any_linkage=True)
+            from sielaff.tools.kinds import other_kinds
+
+            deck, scene = load_scene(args.deck, any_linkage=True, kinds=other_kinds())
         if args.branch:
             scene = scene.replace(branch=args.branch)
+        from sielaff.mechanism import Mechanism
+
+        four_bar = isinstance(deck.mechanism, Mechanism)
+        if not four_bar and "sweep" in tables:
+            raise CommandError(f"{args.deck}: [sweep]: the report runs a sweep of a four-bar "
+                               "only so far (sielaff sweep takes a four-bar only)")
         motor = None
         if "motor" in tables:
             from sielaff.tools.common import read_spec
@@ -687,8 +516,13 @@ def cmd_report(args: Any) -> int:
             except PunchError as exc:
                 raise CommandError(str(exc), exc.status) from None
         with np.errstate(all="ignore"):
-            page = report_html(deck, scene, command, at=args.at, tolerances=task,
-                               motor=motor)
+            if four_bar:
+                page = report_html(deck, scene, command, at=args.at, tolerances=task,
+                                   motor=motor)
+            else:
+                from sielaff.tools.report.kinds import kind_report_html
+
+                page = kind_report_html(deck, scene, command, at=args.at, motor=motor)
     if args.output == "-":
         sys.stdout.write(page)
         return 0

@@ -1,0 +1,113 @@
+"""The sections every report page shares, whatever the linkage's kind: the scene's
+effects, the peaks table, and a ``[motor]`` spec's simulation with its sizing."""
+
+from __future__ import annotations
+
+import html
+from typing import Any
+
+from sielaff.emulator.cards import Deck
+from sielaff.engine.scene import Scene  # noqa: TC001
+from sielaff.quantities import fmt
+from sielaff.tools.report.page import figure, png
+
+__all__ = ["motor_section", "peak_rows", "peaks_table", "scene_section"]
+
+
+def peak_rows(deck: Deck, scene: Scene, n: int = 3600) -> list[Any]:
+    """The peaks table's rows (:func:`sielaff.design.peaks.peaks`): over the angles the
+    linkage reaches, a quantity that grows without bound toward a toggle given as such."""
+    from sielaff.design.peaks import peaks
+
+    return peaks(deck.mechanism, scene, n)
+
+
+def peaks_table(rows: list[Any]) -> str:
+    out = ["<table><tr><th>peak</th><th>value</th><th>unit</th><th>at THETA 2</th></tr>"]
+    for p in rows:
+        if p.unbounded:
+            where = ", ".join(f"{t:.2f} deg (GAMMA {g:.0f} deg)"
+                              for t, g in zip(p.toggles, p.gamma))
+            out.append(f"<tr><td>{html.escape(p.label)}</td><td>unbounded</td>"
+                       f"<td>{html.escape(p.unit)}</td><td>grows without bound toward the "
+                       f"toggle{'s' if len(p.toggles) > 1 else ''} at "
+                       f"{html.escape(where)}</td></tr>")
+        else:
+            out.append(f"<tr><td>{html.escape(p.label)}</td><td>{p.value:.5g}</td>"
+                       f"<td>{html.escape(p.unit)}</td><td>{p.at:.1f} deg</td></tr>")
+    out.append("</table>")
+    if any(p.unbounded for p in rows):
+        out.append("<p>At a toggle the coupler and the rocker are in line (the transmission "
+                   "angle GAMMA is 0 or 180 deg): a crank that keeps turning cannot drive "
+                   "the rocker through it, and the rates and the forces grow without bound "
+                   "as THETA 2 nears it.  Those rows give no number: the largest value "
+                   "depends only on how near to the toggle one looks.</p>")
+    return "\n".join(out)
+
+
+def motor_section(deck: Deck, scene: Scene, run: dict) -> list[str]:
+    """A ``[motor]`` spec's simulation as ``sielaff simulate`` runs it: what happened, the
+    speed, torques and power against time, and the motor sizing."""
+    from sielaff.tools.plot.render import _pyplot
+    from sielaff.tools.simulate import draw
+
+    m = deck.mechanism
+    out = ["<h2>The motor</h2>",
+           f"<p>{html.escape(run['motor'].describe(m.units))}; flywheel "
+           f"{html.escape(fmt(run['flywheel'], 'inertia', m.units, '.6g'))}; "
+           + ("the periodic steady state" if run["steady"] else
+              f"{run['revolutions']:g} revolutions from "
+              + ("the deck's TH2D" if run["speed"] is None else
+                 html.escape(fmt(run["speed"], "rate", m.units, ".6g"))))
+           + ".</p>"]
+    try:
+        import scipy  # noqa: F401
+    except ImportError:
+        return out + ['<p>Not simulated here: simulate needs scipy (pip install -e '
+                      '".[dynamics]").</p>']
+    from sielaff.dynamics import SimulationError, simulate
+    from sielaff.dynamics.sizing import FIGURES, sizing
+
+    try:
+        r = simulate(m, run["motor"], flywheel=run["flywheel"], scene=scene,
+                     speed0=run["speed"], revolutions=run["revolutions"],
+                     steady=run["steady"], outputs=["TORQ"], method=run["method"],
+                     rtol=run["rtol"])
+    except SimulationError as exc:
+        return out + [f"<p>Not simulated: {html.escape(str(exc))}</p>"]
+    plt = _pyplot()
+    fig = plt.figure(figsize=(8, 7.5))
+    draw(fig, r)
+    fig.tight_layout()
+    out.append(f"<p>{html.escape(r.message)}.</p>")
+    out.append(figure(png(fig), "image/png",
+                       "The crank speed, the torques and the motor's power against time"))
+    s = sizing(r)
+    rows = [f"<tr><td>{html.escape(words)}</td><td>{s[key]:.6g}</td>"
+            f"<td>{html.escape(s['units'][key])}</td></tr>"
+            for key, words, _ in FIGURES if key in s]
+    out += [f"<p>Motor sizing over {html.escape(s['window'])}:</p>",
+            "<table><tr><th>figure</th><th>value</th><th>unit</th></tr>", *rows,
+            "</table>"]
+    out += [f"<p><b>Warning:</b> {html.escape(w)}.</p>" for w in s["warnings"]]
+    return out
+
+
+def scene_section(m: Any, scene: Scene, figures: bool) -> list[str]:
+    """The scene's effects as each declares itself (its parameters with their units, its
+    figures over a revolution when the crank turns fully): check's lines, as a table."""
+    from sielaff.design.effects import effect_facts
+    from sielaff.engine.declare import fact_lines
+
+    facts = effect_facts(m, scene, figures=figures)
+    if not facts:
+        return []
+    rows = []
+    for f in facts:
+        lines = fact_lines(f.parameters, m.units, "") + fact_lines(f.figures, m.units, "")
+        rows.append(f"<tr><th>{html.escape(f.name)}</th><td>{html.escape(f.summary)}</td>"
+                    f"<td>{'<br>'.join(html.escape(x) for x in lines)}</td></tr>")
+    return ["<h2>The scene</h2>",
+            "<table><tr><th>effect</th><th>in brief</th><th>its parameters and figures"
+            + (" (over one revolution)" if figures else "") + "</th></tr>",
+            *rows, "</table>"]
