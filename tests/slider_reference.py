@@ -167,3 +167,20 @@ def reduced(m, *, gravity=(0.0, 0.0), fex=0.0, spring=None):
     def as_float(f):
         return lambda th: float(f(th))
     return tuple(as_float(f) for f in fs)
+
+
+@functools.lru_cache(maxsize=4)
+def _length_rate(fields: tuple, point: tuple):
+    """dL/dth [in/rad]: L the distance from the frame point ``point`` to B."""
+    R2, R3, e = fields
+    th = sp.Symbol("th")
+    xb = R2 * sp.cos(th) + sp.sqrt(R3 ** 2 - (e - R2 * sp.sin(th)) ** 2)
+    length = sp.sqrt((xb - point[0]) ** 2 + (e - point[1]) ** 2)
+    return sp.lambdify(th, sp.diff(length, th), "mpmath")
+
+
+def length_rate(m, point):
+    """dL/dth as a float function of th [rad]: a damper of rate c from ``point`` (on the
+    frame) to B adds the generalized force -c (dL/dth)^2 th'."""
+    f = _length_rate((float(m.R2), float(m.R3), float(m.offset)), tuple(map(float, point)))
+    return lambda th: float(f(th))

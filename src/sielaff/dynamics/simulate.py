@@ -52,6 +52,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.dynamics.friction import FrictionError, FrictionTables
+from sielaff.dynamics.runs import TWO_PI, SimulationError, _at_times, _steady, _transient
 from sielaff.engine.analysis import analyze, model_for
 from sielaff.engine.scene import Scene, SceneBase, scene_of
 from sielaff.mechanism import Mechanism
@@ -59,7 +60,6 @@ from sielaff.quantities import unit, unit_of
 
 __all__ = ["Simulation", "simulate"]
 
-TWO_PI = 2.0 * math.pi
 #: Evaluations of the equation of motion allowed per run: a bound on time, never a hang.
 #: A run may take this many, or EVALUATIONS_PER_REVOLUTION for each revolution asked
 #: for, whichever is more (the decks take 190 to 300 a revolution at rtol 1e-8).
@@ -150,10 +150,6 @@ class Simulation(dict):
         return sizing(self)
 
 
-class SimulationError(ValueError):
-    """A simulation that cannot be run or has no answer (one line)."""
-
-
 class _TooSlow(Exception):
     """The run passed MAX_CPU_SECONDS."""
 
@@ -237,7 +233,7 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
              outputs: Iterable[str] | str | None = None, start: float = 0.0,
              per_revolution: int = 360, method: str = "LSODA", rtol: float = 1e-8,
              atol: float | None = None, t_max: float | None = None,
-             tables: bool = True) -> Simulation:
+             tables: bool = True, times: Iterable[float] | None = None) -> Simulation:
     """The crank of ``mechanism`` driven by ``motor``: the motion that follows.
 
     Parameters
@@ -272,6 +268,11 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         at the starting or the motor's speed).
     tables : bool
         Use the Fourier tables when the scene allows (False: the engine at every state).
+    times : list of float, optional
+        The times of the samples [s], increasing from 0 or later: the run integrates to
+        the last one, whatever the crank does (it may stop and turn back: a free linkage
+        driven only by springs and forces swings; ``revolutions`` and ``per_revolution``
+        are not used, and ``t_max``, if given, must not be before the last time).
 
     Returns
     -------
@@ -282,7 +283,8 @@ def simulate(mechanism: Mechanism, motor: Callable[[Any], Any], *, flywheel: flo
         result = _simulate(mechanism, motor, flywheel=flywheel, scene=scene, speed0=speed0,
                            revolutions=revolutions, steady=steady, outputs=outputs,
                            start=start, per_revolution=per_revolution, method=method,
-                           rtol=rtol, atol=atol, t_max=t_max, tables=tables)
+                           rtol=rtol, atol=atol, t_max=t_max, tables=tables,
+                           times=times)
     except SimulationError as exc:
         raise SimulationError(_in_units(str(exc), units)) from None
     result.message = _in_units(result.message, units)
@@ -297,8 +299,30 @@ def _in_units(text: str, units: str) -> str:
         "rad/sec", unit_of("rate", units))
 
 
+def _times(times: Any, steady: Any, t_max: float | None) -> np.ndarray | None:
+    """``times`` checked [s]: None, or an increasing 1-d array of at least 2 finite times
+    >= 0, at most MAX_SAMPLES of them, none past ``t_max``."""
+    if times is None:
+        return None
+    what = f"times: an increasing list of 2 to {MAX_SAMPLES:,} times >= 0 [s]"
+    if steady:
+        raise SimulationError("times: not with steady = True (the steady state is one "
+                              "revolution, sampled by per_revolution)")
+    try:
+        ts = np.array(times, dtype=float)
+    except (TypeError, ValueError):
+        raise SimulationError(f"{what}, not {times!r}") from None
+    if ts.ndim != 1 or not 2 <= len(ts) <= MAX_SAMPLES or not np.all(np.isfinite(ts)) \
+            or ts[0] < 0.0 or np.any(np.diff(ts) <= 0.0):
+        raise SimulationError(f"{what}; these are not")
+    if t_max is not None and ts[-1] > t_max:
+        raise SimulationError(f"times: the last, {ts[-1]:g} s, is past t_max = {t_max:g} s")
+    return ts
+
+
 def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady, outputs,
-              start, per_revolution, method, rtol, atol, t_max, tables) -> Simulation:
+              start, per_revolution, method, rtol, atol, t_max, tables, times
+              ) -> Simulation:
     try:
         from scipy.integrate import solve_ivp
         from scipy.optimize import brentq
@@ -342,11 +366,12 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
         raise SimulationError(f"simulate: {why}")
     start_name = "speed0" if speed0 is not None else "the mechanism's TH2D"
     w0 = _check_speed(start_name, mechanism.TH2D if speed0 is None else speed0)
+    ts = _times(times, steady, t_max)
     revs = _check_speed("revolutions", revolutions)
     if isinstance(per_revolution, bool) or not isinstance(per_revolution, int) \
             or not 2 <= per_revolution <= 100_000:
         raise SimulationError(f"per_revolution = {per_revolution!r}: an integer 2..100000")
-    if not steady:
+    if not steady and ts is None:
         most = max_revolutions(per_revolution)
         if not 0.0 < revs <= most:
             raise SimulationError(
@@ -445,7 +470,7 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
     cpu0 = time.process_time()
     budget = MAX_EVALUATIONS if steady else max(MAX_EVALUATIONS,
                                                  int(EVALUATIONS_PER_REVOLUTION * revs))
-    angle_end = TWO_PI * revs
+    angle_end = TWO_PI * revs if ts is None else math.inf  # no pace by angle for times
 
     def accel(theta: float, w: float) -> float:
         count[0] += 1
@@ -484,6 +509,9 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
                               f"speed {TWO_PI / period:.6g} rad/sec (2 pi / period, the time "
                               f"average), from {float(np.min(w)):.6g} to "
                               f"{float(np.max(w)):.6g}")
+        elif ts is not None:
+            t, th, w = _at_times(accel, solve_ivp, th_start, w0, ts, method, rtol, atol_,
+                                 result)
         else:
             t, th, w = _transient(accel, solve_ivp, th_start, w0, revs, per_revolution,
                                   method, rtol, atol_, t_max, scale, result, tu)
@@ -541,156 +569,3 @@ def _accel_table(tab: _Tables, motor, f_in, th, w) -> np.ndarray:
     e = np.exp(1j * tab.k[:, None] * np.asarray(th)[None, :])
     jj, b, c, d = (tab.coef @ e).real
     return (np.asarray(motor(w), dtype=float) - (b * w * w + c * w + d)) / (jj + f_in)
-
-
-def _transient(accel, solve_ivp, th0, w0, revs, per_rev, method, rtol, atol, t_max,
-               scale, result, tu):
-    """Integrate in time from (th0, w0) until ``revs`` revolutions, a stall or t_max."""
-    a0 = accel(th0, w0)
-    if w0 == 0.0 and a0 <= 0.0:
-        result.stalled, result.finished = True, False
-        result.message = (f"stalled: at rest at THETA 2 = {math.degrees(th0):.6g} deg the "
-                          f"motor cannot start the crank (it would turn back, "
-                          f"{a0:.6g} rad/sec^2)")
-        return np.array([0.0]), np.array([th0]), np.array([w0])
-    t_end = float(t_max) if t_max is not None else 100.0 * revs * TWO_PI / scale + 10.0
-
-    def rhs(_t, y):
-        return [y[1], accel(y[0], y[1])]
-
-    def stall(_t, y):
-        return y[1]
-    stall.terminal, stall.direction = True, -1
-
-    def done(_t, y):
-        return y[0] - th0 - TWO_PI * revs
-    done.terminal, done.direction = True, 1
-
-    with warnings.catch_warnings():  # lsoda's own: a failure is sol.status, said below
-        warnings.simplefilter("ignore")
-        sol = solve_ivp(rhs, (0.0, t_end), [th0, w0], method=method, rtol=rtol,
-                        atol=[atol, atol], events=[stall, done], dense_output=True)
-    if sol.status == -1:
-        raise SimulationError(f"simulate: solve_ivp failed ({sol.message})")
-    t_stop = float(sol.t[-1])
-    made = (float(sol.y[0, -1]) - th0) / TWO_PI
-    n = max(2, int(math.ceil(per_rev * max(abs(made), 1.0 / per_rev)))) + 1
-    t = np.linspace(0.0, t_stop, n)
-    y = sol.sol(t)
-    y[:, -1] = sol.y[:, -1]
-    if len(sol.t_events[0]) and (not len(sol.t_events[1])
-                                 or sol.t_events[0][0] <= sol.t_events[1][0]):
-        result.stalled, result.finished = True, False
-        result.message = (f"stalled: the crank stopped at THETA 2 = "
-                          f"{math.degrees(float(sol.y[0, -1])):.6g} deg after "
-                          f"{t_stop:.6g} s and {made:.4g} revolutions; the motor cannot "
-                          "carry the linkage over it (it would turn back)")
-    elif len(sol.t_events[1]):
-        result.message = (f"{revs:g} revolutions in {t_stop:.6g} s; the crank speed ended "
-                          f"at {float(sol.y[1, -1]):.6g} rad/sec")
-    else:
-        result.finished = False
-        result.message = (f"stopped at t_max = {t_end:.6g} s after {made:.4g} of "
-                          f"{revs:g} revolutions (the crank barely turns)")
-    return t, y[0], y[1]
-
-
-#: The steady-state search steps its speed by this factor, at most STEADY_STEPS times each
-#: way (1.3^80: nine decades above or below the guess).
-STEADY_FACTOR, STEADY_STEPS = 1.3, 80
-
-
-def _bracket(f, w0, brentq, rtol):
-    """The start speed of the periodic motion: a zero of f (the speed a revolution gains,
-    None where the crank stalls within it), bracketed from the guess ``w0`` either way.
-
-    A revolution gains, loses, stalls, or changes the speed by no more than the
-    integration resolves (``100 rtol w``: flat).  A gain or a stall (too slow to pass the
-    hump) says "faster", a loss "slower"; the search steps by :data:`STEADY_FACTOR` that
-    way until the sign turns, then solves between a gain and a loss.  A zero is never
-    taken from a flat revolution alone: a motor that gains a little every revolution at
-    a high speed has no steady state, whatever the last digits of an integration say.
-    """
-    k = STEADY_FACTOR
-
-    def kind(v, w):
-        if v is None:
-            return "stall"
-        noise = 100.0 * rtol * w
-        return "gain" if v > noise else "loss" if v < -noise else "flat"
-
-    def solve(lo, hi):
-        return brentq(lambda x: f(x) or 0.0, lo, hi, xtol=1e-13 * hi,
-                      rtol=4.0 * np.finfo(float).eps)
-
-    c0 = kind(f(w0), w0)
-    up = c0 in ("gain", "stall")
-    if c0 == "flat":  # at the steady state already, or where f cannot tell: look around
-        below, above = kind(f(w0 / k), w0 / k), kind(f(w0 * k), w0 * k)
-        if below == "gain" and above == "loss":
-            return solve(w0 / k, w0 * k)
-        up = above in ("gain", "flat", "stall")
-    gained = w0 if c0 == "gain" else None
-    w = w0
-    for _ in range(STEADY_STEPS):
-        nxt = w * k if up else w / k
-        c = kind(f(nxt), nxt)
-        if up and c == "gain":
-            gained = nxt
-        elif up and c == "loss":
-            if gained is None:
-                raise SimulationError(
-                    f"steady: no periodic steady state: below {w:.6g} rad/sec the crank "
-                    f"stalls within a revolution and from {nxt:.6g} rad/sec it slows down")
-            return solve(gained, nxt)
-        elif not up and c == "stall":
-            raise SimulationError(
-                f"steady: no periodic steady state: the crank slows down from every speed "
-                f"down to {w:.6g} rad/sec, and below it stalls within a revolution; the "
-                "motor cannot carry the linkage")
-        elif not up and c == "gain":
-            return solve(nxt, w)
-        w = nxt
-    if up:
-        raise SimulationError(
-            f"steady: no periodic steady state: the crank gains speed every revolution from "
-            f"{w0:.6g} up to {w:.6g} rad/sec, or changes it by less than the integration "
-            "resolves (the motor's torque never falls to what the linkage takes)")
-    raise SimulationError(f"steady: no periodic steady state: the crank slows down every "
-                          f"revolution from {w0:.6g} down to {w:.6g} rad/sec")
-
-
-def _steady(accel, solve_ivp, brentq, th0, w0, per_rev, method, rtol, atol):
-    """One revolution of the periodic motion through th0: shooting on its speed."""
-    def rev(w_start, dense=False):
-        floor = 1e-6 * abs(w_start)
-
-        def rhs(th, y):
-            return [1.0 / y[1], accel(th, y[1]) / y[1]]
-
-        def slow(_th, y):
-            return y[1] - floor
-        slow.terminal, slow.direction = True, -1
-        with warnings.catch_warnings():  # a failed revolution is status != 0: None
-            warnings.simplefilter("ignore")
-            sol = solve_ivp(rhs, (th0, th0 + TWO_PI), [0.0, w_start], method=method,
-                            rtol=rtol, atol=[atol, atol], events=[slow], dense_output=dense)
-        if sol.status != 0:
-            return None
-        return sol
-
-    def f(w_start):
-        sol = rev(w_start)
-        return None if sol is None else float(sol.y[1, -1]) - w_start
-
-    if not w0 > 0.0:
-        raise SimulationError(f"steady: speed0 = {w0:g} rad/sec: give a positive guess of "
-                              "the mean speed")
-    ws = _bracket(f, w0, brentq, rtol)
-    sol = rev(ws, dense=True)
-    if sol is None:
-        raise SimulationError(f"steady: the crank stalls from {ws:.6g} rad/sec")
-    th = th0 + np.linspace(0.0, TWO_PI, per_rev + 1)
-    y = sol.sol(th)
-    y[:, -1] = sol.y[:, -1]
-    return y[0], th, y[1]
