@@ -275,7 +275,9 @@ def test_the_commands_said_to_take_every_kind_do(tmp_path):
     path = spec_with(tmp_path, "slider-crank", extra=(
         '\n[motor]\nkind = "linear"\nstall_torque = 800.0\nno_load_speed = 350.0\n'
         "flywheel = 0.05\nspeed = 300.0\nrevolutions = 1\n"))
-    args = {"plot": ["-o", str(tmp_path / "f")], "report": ["-o", str(tmp_path / "r.html")]}
+    path.write_text(path.read_text() + "\n[sweep]\nangles = 36\n\n[sweep.vary]\nR3 = [7.0, 8.0]\n")
+    args = {"plot": ["-o", str(tmp_path / "f")], "report": ["-o", str(tmp_path / "r.html")],
+            "sweep": ["-o", str(tmp_path / "s.csv")]}
     for command in KIND_COMMANDS:
         if command in ("plot", "report"):
             pytest.importorskip("matplotlib")
@@ -285,3 +287,37 @@ def test_the_commands_said_to_take_every_kind_do(tmp_path):
         assert status == 0, (command, err)
     status, _, err = cli("punch", str(path))
     assert status == 2 and f"sielaff {', '.join(KIND_COMMANDS)}" in err
+    # the page carries the spec's sweep (2 designs) and its motor, for this kind too
+    text = _page_text(tmp_path / "r.html")
+    assert "2 designs (2: R3); the Pareto front of TORQ_PEAK and SHAK_PEAK" in text
+    assert "The motor" in text and "RMS torque (the continuous rating)" in text
+
+
+def test_sweep_of_a_slider_crank(tmp_path):
+    """``sielaff sweep`` on a slider-crank spec: its own fields varied, its own figures
+    (every pin's peak, the guide force's), each the engine's over the sweep's angles on
+    that design; the designs whose rod cannot reach the guide left out and counted (the
+    rod shorter than the crank, R3 < R2 with no offset, found here without the engine)."""
+    path = spec_with(tmp_path, "slider-crank", extra=(
+        '\n[sweep]\nangles = 72\npareto = ["FN_PEAK", "TORQ_RMS"]\n\n[sweep.vary]\n'
+        "R3 = { from = 1.0, to = 9.0, n = 5 }\nW4 = [1.0, 2.0]\n"))
+    out = tmp_path / "s.csv"
+    status, stdout, err = cli("sweep", str(path), "-o", str(out))
+    assert status == 0 and stdout == "", err
+    rows = list(csv.DictReader(out.open()))
+    m = SLIDER_EXAMPLE
+    short = [(r3, w4) for r3 in np.linspace(1.0, 9.0, 5) for w4 in (1.0, 2.0) if r3 < m.R2]
+    assert len(short) == 2 and len(rows) == 10 - len(short)
+    assert f"{len(short)} of 10 designs left out" in err
+    th = np.arange(72) * 5.0
+    for row in rows:
+        d = m.replace(R3=float(row["R3[in]"]), W4=float(row["W4[lb]"]))
+        r = analyze(d, th, ["FN", "FB34", "TORQ"])
+        assert float(row["FN_PEAK[lb]"]) == pytest.approx(np.max(np.abs(r["FN"])), rel=1e-12)
+        assert float(row["FB34_PEAK[lb]"]) == pytest.approx(np.max(r["FB34"]), rel=1e-12)
+        assert float(row["TORQ_RMS[in-lb]"]) == pytest.approx(
+            np.sqrt(np.mean(r["TORQ"] ** 2)), rel=1e-12)
+    pytest.importorskip("matplotlib")
+    status, _, err = cli("sweep", str(path), "-o", str(tmp_path / "t.csv"), "--pareto",
+                         "FOB_PEAK,TORQ_RMS", "--plot", str(tmp_path / "p.png"))
+    assert status == 2 and "'FOB_PEAK' is not a figure" in err and "FN_PEAK" in err

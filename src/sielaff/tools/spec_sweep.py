@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from decimal import Decimal
+from typing import Any
 
 from sielaff.tools.spec_fields import PunchError, _number, _table, _unknown, key_names
 
@@ -27,7 +28,7 @@ def sweep_keys() -> tuple:
 MAX_DESIGNS = 100_000_000
 
 
-def sweep_of(spec: dict, path: str = "<spec>") -> dict:
+def sweep_of(spec: dict, path: str = "<spec>", mechanism: Any = None) -> dict:
     """The spec's ``[sweep]``: ``{"axes": {name: values}, "angles", "cf", "pareto",
     "senses"}``::
 
@@ -41,10 +42,18 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
         R4 = { from = 10.0, to = 14.0, n = 41 }   # evenly spaced, both ends
         W3 = [4.0, 8.0, 12.0]                     # or the values themselves
         BALANCE = [0, 1]                          # without and with counterweights
+
+    ``mechanism``: the spec's linkage; another kind than the four-bar varies its own
+    fields and ranks on its own figures (:func:`sielaff.design.sweep.sweepable`,
+    :func:`sielaff.design.figures.figure_table`).
     """
     import numpy as np
 
-    from sielaff.design.sweep import MAX_ANGLES, SWEEPABLE, pareto_pair
+    from sielaff.design.figures import figure_table
+    from sielaff.design.sweep import MAX_ANGLES, SWEEPABLE, pareto_pair, sweepable
+
+    names_ok = SWEEPABLE if mechanism is None else sweepable(mechanism)
+    table_of = None if mechanism is None else figure_table(mechanism)
 
     table = _table(f"{path}: [sweep]", spec.get("sweep", {}))
     if not table:
@@ -60,7 +69,7 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     if not 0.0 < cf < 2.0:
         raise PunchError(f"{path}: [sweep] cf = {cf:g}: between 0 and 2 (0.05 is usual)")
     try:  # each "FIGURE" or "FIGURE:min|max" (design.sweep.pareto_pair)
-        pair = pareto_pair(table.get("pareto", ["TORQ_PEAK", "SHAK_PEAK"]))
+        pair = pareto_pair(table.get("pareto", ["TORQ_PEAK", "SHAK_PEAK"]), table_of)
     except ValueError as exc:
         raise PunchError(f"{path}: [sweep] {exc}") from None
     pareto, senses = [p[0] for p in pair], tuple(p[1] for p in pair)
@@ -72,9 +81,9 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
     lengths = {}
     for name, item in vary.items():
         where = f"{path}: [sweep.vary] {name}"
-        if name not in SWEEPABLE:
+        if name not in names_ok:
             raise PunchError(f"{where}: not a field a sweep can vary "
-                             f"({' '.join(SWEEPABLE)})")
+                             f"({' '.join(names_ok)})")
         if isinstance(item, list):
             if not item:
                 raise PunchError(f"{where} = []: give at least one value")
@@ -107,17 +116,21 @@ def sweep_of(spec: dict, path: str = "<spec>") -> dict:
             lo = float(_number(where + " from", item["from"]))
             hi = float(_number(where + " to", item["to"]))
             values = np.linspace(lo, hi, item["n"])
-        _check_axis(where, name, values)
+        _check_axis(where, name, values, mechanism)
         axes[name] = values
     return {"axes": axes, "angles": angles, "cf": cf, "pareto": pareto, "senses": senses}
 
 
-def _check_axis(where: str, name: str, values) -> None:
+def _check_axis(where: str, name: str, values, mechanism: Any = None) -> None:
     """A swept field's values (each already a bounded, finite spec number) that no design
     can have, as one line naming the axis and the first bad value."""
     import numpy as np
 
+    from sielaff.design.kinds import is_four_bar, nonnegative_fields, positive_fields
     from sielaff.mechanism import LENGTHS, NONNEGATIVE
+
+    if mechanism is not None and not is_four_bar(mechanism):
+        LENGTHS, NONNEGATIVE = positive_fields(mechanism), nonnegative_fields(mechanism)
 
     rules = [(name in LENGTHS, values > 0.0, "a link length must be > 0"),
              (name in NONNEGATIVE, values >= 0.0,

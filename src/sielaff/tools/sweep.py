@@ -160,13 +160,15 @@ def cmd_sweep(args) -> int:
                                "\".[plot]\"") from None
     if not spec_path(path):
         raise CommandError(f"{path}: sweep reads a TOML spec with a [sweep] table")
-    deck, scene = read_spec_deck(path)
+    from sielaff.tools.kinds import other_kinds
+
+    deck, scene = read_spec_deck(path, other_kinds())
     if getattr(args, "branch", None):
         import dataclasses
 
         scene = dataclasses.replace(scene, branch=args.branch)
     try:
-        sweep = sweep_of(read_spec(path), path)
+        sweep = sweep_of(read_spec(path), path, deck.mechanism)
     except PunchError as exc:
         raise CommandError(str(exc), exc.status) from None
     m = deck.mechanism
@@ -190,13 +192,16 @@ def cmd_sweep(args) -> int:
     if backend == "dask" and args.scheduler is not None:
         client = _connect(args.scheduler)
     names = columns(grid)
+    figs = names[1 + len(grid.names):]  # the kind's figures, after DESIGN and the axes
     header = _header(names, m.units)
     pair = list(zip(sweep["pareto"], sweep["senses"]))
     if getattr(args, "pareto", None):
         from sielaff.design.sweep import pareto_pair
 
         try:
-            pair = list(pareto_pair(args.pareto))
+            from sielaff.design.figures import figure_table
+
+            pair = list(pareto_pair(args.pareto, figure_table(m)))
         except ValueError as exc:
             raise CommandError(f"sielaff: --pareto {args.pareto}: "
                                f"{str(exc).removeprefix('pareto: ')}") from None
@@ -212,8 +217,10 @@ def cmd_sweep(args) -> int:
                 blocks = iter_blocks(grid, sweep["angles"], sweep["cf"], scene, backend,
                                      client, workers=workers)
                 for block in _on_cluster(blocks, args.scheduler, client):
-                    kept = _full_cycle(block, names)
-                    for k in block[~kept, names.index("KIND")]:
+                    kept = _full_cycle(block, names, figs)
+                    kinds = block[~kept, names.index("KIND")] if "KIND" in names else \
+                        np.full(int(np.sum(~kept)), -1.0)  # another kind: no KIND column
+                    for k in kinds:
                         dropped[int(k)] = dropped.get(int(k), 0) + 1
                     block = block[kept]
                     if block.size:
@@ -227,7 +234,7 @@ def cmd_sweep(args) -> int:
             if args.plot:
                 _plot(temps[-1], np.concatenate(xs), np.concatenate(ys),
                       tuple(p for p, _ in pair), m.units, grid.size,
-                      tuple(s for _, s in pair), designs=np.concatenate(ds))
+                      tuple(s for _, s in pair), designs=np.concatenate(ds), mechanism=m)
     finally:
         if client is not None:
             _close(client)
@@ -239,24 +246,27 @@ def cmd_sweep(args) -> int:
     if left_out:
         from sielaff.engine.classify import KINDS
 
-        kinds = ", ".join(f"{n} {KINDS[k]}" for k, n in sorted(dropped.items()))
-        print(f"sielaff sweep: {left_out} of {grid.size} designs left out (no row), the "
-              "figures being those of a whole revolution: their crank cannot make one, or "
-              f"the linkage folds flat on the way at a change point ({kinds})",
-              file=sys.stderr)
+        if -1 in dropped:  # another kind: its crank cannot make a revolution
+            print(f"sielaff sweep: {left_out} of {grid.size} designs left out (no row), the "
+                  "figures being those of a whole revolution: their crank cannot make one "
+                  "(a dyad cannot close somewhere on the way)", file=sys.stderr)
+        else:
+            kinds = ", ".join(f"{n} {KINDS[k]}" for k, n in sorted(dropped.items()))
+            print(f"sielaff sweep: {left_out} of {grid.size} designs left out (no row), the "
+                  "figures being those of a whole revolution: their crank cannot make one, "
+                  f"or the linkage folds flat on the way at a change point ({kinds})",
+                  file=sys.stderr)
     return 0
 
 
-def _full_cycle(block, names: list[str]):
-    """The rows of designs whose figures are a whole revolution's: every figure finite
-    but FLYWHEEL_I, which is NaN at TH2D = 0 (no speed to size a flywheel for).  A
-    design whose crank cannot turn fully, or that folds flat at a change point, has NaN
-    figures (design.figures)."""
+def _full_cycle(block, names: list[str], figs: list[str]):
+    """The rows of designs whose figures (``figs``, the kind's) are a whole revolution's:
+    every figure finite but FLYWHEEL_I, which is NaN at TH2D = 0 (no speed to size a
+    flywheel for).  A design whose crank cannot turn fully, or that folds flat at a
+    change point, has NaN figures (design.figures)."""
     import numpy as np
 
-    from sielaff.design.figures import FIGURES
-
-    cols = [names.index(f) for f in FIGURES if f not in ("KIND", "FLYWHEEL_I")]
+    cols = [names.index(f) for f in figs if f not in ("KIND", "FLYWHEEL_I")]
     return np.isfinite(block[:, cols]).all(axis=1)
 
 
@@ -327,16 +337,18 @@ FRONT_LABELS = 30
 
 
 def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"), *,
-          designs) -> None:
+          designs, mechanism=None) -> None:
     import matplotlib
     import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from sielaff.design.figures import FIGURES
-    from sielaff.quantities import unit
+    from sielaff.design.figures import FIGURES, figure_table
+    from sielaff.design.sweep import column_units
 
+    table = FIGURES if mechanism is None else figure_table(mechanism)
+    units = column_units(list(pair), system)
     front = _pareto(x, y, senses)
     fig, ax = plt.subplots(figsize=(7, 5), dpi=120)
     ok = np.isfinite(x) & np.isfinite(y)
@@ -348,10 +360,8 @@ def _plot(path: str, x, y, pair, system: str, size: int, senses=("min", "min"), 
             ax.annotate(f"{int(designs[i])}", (x[i], y[i]),
                         xytext=(4, 4), textcoords="offset points", fontsize=7, color="C3")
     word = {"min": "minimised", "max": "maximised"}
-    ax.set_xlabel(f"{pair[0]} ({FIGURES[pair[0]][1]}, {word[senses[0]]}) "
-                  f"[{unit(FIGURES[pair[0]][0], system)}]")
-    ax.set_ylabel(f"{pair[1]} ({FIGURES[pair[1]][1]}, {word[senses[1]]}) "
-                  f"[{unit(FIGURES[pair[1]][0], system)}]")
+    ax.set_xlabel(f"{pair[0]} ({table[pair[0]][1]}, {word[senses[0]]}) [{units[pair[0]]}]")
+    ax.set_ylabel(f"{pair[1]} ({table[pair[1]][1]}, {word[senses[1]]}) [{units[pair[1]]}]")
     ax.legend(loc="upper right")
     ax.grid(True, alpha=0.3)
     ax.set_title(f"Pareto front of {pair[0]} and {pair[1]}: {size:,} designs"

@@ -48,7 +48,6 @@ command.
 from __future__ import annotations
 
 import html
-import io
 import os
 import sys
 from typing import Any
@@ -63,61 +62,12 @@ from sielaff.tools.report.sections import (  # noqa: F401  (tests read them here
     peak_rows,
     peaks_table,
     scene_section,
+    sweep_section,
 )
 
 #: Frames of the page's animation: 15 degrees apart for a crank that turns fully (a page
 #: is read, not played; ``plot --animate`` draws 36).
 FRAMES = 24
-#: A sweep larger than this is summarised by ``sielaff sweep``, not run for a page.
-SWEEP_LIMIT = 20_000
-#: Rows of the Pareto front shown.
-FRONT_ROWS = 15
-
-
-def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
-    """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
-    beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
-    from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
-    from sielaff.tools.common import is_spec, read_spec
-    from sielaff.tools.spec import sweep_of
-    from sielaff.tools.sweep import _pareto, _plot
-
-    if not is_spec(path):
-        return []
-    spec = read_spec(path)
-    if "sweep" not in spec:
-        return []
-    sw = sweep_of(spec, path)
-    grid = Grid(deck.mechanism, sw["axes"])
-    out = ["<h2>The sweep</h2>"]
-    if grid.size > SWEEP_LIMIT:
-        return out + [f"<p>{grid.size:,} designs: more than a page runs "
-                      f"({SWEEP_LIMIT:,}); <code>sielaff sweep</code> evaluates them.</p>"]
-    cols = columns(grid)
-    data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
-    px, py = sw["pareto"]
-    senses = sw.get("senses", ("min", "min"))  # each figure minimised or maximised
-    x, y = data[:, cols.index(px)], data[:, cols.index(py)]
-    front = _pareto(x, y, senses)
-    units = column_units(cols, deck.mechanism.units)
-    shown = ["DESIGN", *grid.names, px, py]
-    out.append(f"<p>{grid.size:,} designs ({' x '.join(str(n) for n in grid.shape)}: "
-               f"{html.escape(', '.join(grid.names))}); the Pareto front of {px} and {py} "
-               f"({' and '.join(s + 'imised' for s in senses)}) has {len(front)} designs; "
-               "the first "
-               f"{min(len(front), FRONT_ROWS)} by {px}:</p>")
-    rows = ["<table><tr>" + "".join(
-        f"<th>{html.escape(c)}" + (f" [{html.escape(units[c])}]" if units[c] != "-" else "")
-        + "</th>" for c in shown) + "</tr>"]
-    for i in front[:FRONT_ROWS]:
-        rows.append("<tr>" + "".join(f"<td>{data[i, cols.index(c)]:.5g}</td>" for c in shown)
-                    + "</tr>")
-    rows.append("</table>")
-    buf = io.BytesIO()
-    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses,
-          designs=data[:, cols.index("DESIGN")])
-    return out + rows + [figure(buf.getvalue(), "image/png",
-                                 f"The sweep's designs and the Pareto front of {px} and {py}")]
 
 
 def tolerance_section(deck: Deck, scene: Scene, task: dict) -> list[str]:
@@ -502,9 +452,6 @@ def cmd_report(args: Any) -> int:
         from sielaff.mechanism import Mechanism
 
         four_bar = isinstance(deck.mechanism, Mechanism)
-        if not four_bar and "sweep" in tables:
-            raise CommandError(f"{args.deck}: [sweep]: the report runs a sweep of a four-bar "
-                               "only so far (sielaff sweep takes a four-bar only)")
         motor = None
         if "motor" in tables:
             from sielaff.tools.common import read_spec

@@ -16,6 +16,7 @@ The same page as the four-bar's, composed from the same commands' work for the k
   angles, stroke and time ratio, peaks, cycle work, effects);
 * balancing: a slider-crank's crank counterweight (:func:`sielaff.design.slider_balance`);
   for the others the page says why none is offered;
+* a ``[sweep]``'s Pareto front of the kind's figures (:func:`sections.sweep_section`);
 * a ``[motor]`` spec's simulation and sizing (:func:`sections.motor_section`).
 """
 
@@ -28,7 +29,13 @@ from typing import Any
 from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.tools.report.page import figure, head, page
-from sielaff.tools.report.sections import motor_section, peak_rows, peaks_table, scene_section
+from sielaff.tools.report.sections import (
+    motor_section,
+    peak_rows,
+    peaks_table,
+    scene_section,
+    sweep_section,
+)
 
 __all__ = ["kind_report_html"]
 
@@ -70,6 +77,7 @@ def kind_report_html(deck: Deck, scene: Scene, command: str, at: float | None = 
                  f"<p>No balancing is offered for a {html.escape(kind_name(m))}: the "
                  "counterweights that cancel a four-bar's shaking force (Berkof-Lowen) and "
                  "a slider-crank's crank counterweight are the two methods sielaff has.</p>")
+    parts += sweep_section(deck.path, deck, scene)
     if motor is not None:
         parts += motor_section(deck, scene, motor)
     return page(parts, command)

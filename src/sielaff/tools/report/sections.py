@@ -1,17 +1,26 @@
 """The sections every report page shares, whatever the linkage's kind: the scene's
-effects, the peaks table, and a ``[motor]`` spec's simulation with its sizing."""
+effects, the peaks table, a ``[sweep]``'s Pareto front, and a ``[motor]`` spec's
+simulation with its sizing."""
 
 from __future__ import annotations
 
 import html
+import io
 from typing import Any
+
+import numpy as np
 
 from sielaff.emulator.cards import Deck
 from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.quantities import fmt
 from sielaff.tools.report.page import figure, png
 
-__all__ = ["motor_section", "peak_rows", "peaks_table", "scene_section"]
+__all__ = ["motor_section", "peak_rows", "peaks_table", "scene_section", "sweep_section"]
+
+#: A sweep larger than this is summarised by ``sielaff sweep``, not run for a page.
+SWEEP_LIMIT = 20_000
+#: Rows of the Pareto front shown.
+FRONT_ROWS = 15
 
 
 def peak_rows(deck: Deck, scene: Scene, n: int = 3600) -> list[Any]:
@@ -111,3 +120,49 @@ def scene_section(m: Any, scene: Scene, figures: bool) -> list[str]:
             "<table><tr><th>effect</th><th>in brief</th><th>its parameters and figures"
             + (" (over one revolution)" if figures else "") + "</th></tr>",
             *rows, "</table>"]
+
+
+def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
+    """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
+    beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
+    from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
+    from sielaff.tools.common import is_spec, read_spec
+    from sielaff.tools.spec import sweep_of
+    from sielaff.tools.sweep import _pareto, _plot
+
+    if not is_spec(path):
+        return []
+    spec = read_spec(path)
+    if "sweep" not in spec:
+        return []
+    sw = sweep_of(spec, path, deck.mechanism)
+    grid = Grid(deck.mechanism, sw["axes"])
+    out = ["<h2>The sweep</h2>"]
+    if grid.size > SWEEP_LIMIT:
+        return out + [f"<p>{grid.size:,} designs: more than a page runs "
+                      f"({SWEEP_LIMIT:,}); <code>sielaff sweep</code> evaluates them.</p>"]
+    cols = columns(grid)
+    data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
+    px, py = sw["pareto"]
+    senses = sw.get("senses", ("min", "min"))  # each figure minimised or maximised
+    x, y = data[:, cols.index(px)], data[:, cols.index(py)]
+    front = _pareto(x, y, senses)
+    units = column_units(cols, deck.mechanism.units)
+    shown = ["DESIGN", *grid.names, px, py]
+    out.append(f"<p>{grid.size:,} designs ({' x '.join(str(n) for n in grid.shape)}: "
+               f"{html.escape(', '.join(grid.names))}); the Pareto front of {px} and {py} "
+               f"({' and '.join(s + 'imised' for s in senses)}) has {len(front)} designs; "
+               "the first "
+               f"{min(len(front), FRONT_ROWS)} by {px}:</p>")
+    rows = ["<table><tr>" + "".join(
+        f"<th>{html.escape(c)}" + (f" [{html.escape(units[c])}]" if units[c] != "-" else "")
+        + "</th>" for c in shown) + "</tr>"]
+    for i in front[:FRONT_ROWS]:
+        rows.append("<tr>" + "".join(f"<td>{data[i, cols.index(c)]:.5g}</td>" for c in shown)
+                    + "</tr>")
+    rows.append("</table>")
+    buf = io.BytesIO()
+    _plot(buf, x, y, (px, py), deck.mechanism.units, grid.size, senses,
+          designs=data[:, cols.index("DESIGN")], mechanism=deck.mechanism)
+    return out + rows + [figure(buf.getvalue(), "image/png",
+                                 f"The sweep's designs and the Pareto front of {px} and {py}")]
