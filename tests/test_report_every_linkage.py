@@ -34,6 +34,9 @@ SOURCES = sorted(p.name for p in DECKS.iterdir() if p.suffix in (".dat", ".toml"
 EXTRA = {
     "si-crossed-double-rocker.toml": (DECKS / "double-rocker.toml").read_text()
     + '\n[scene]\nunits = "SI"\nbranch = "crossed"\n',
+    # another kind in SI with gravity: every unit on its page the SI one
+    "si-watt.toml": '[scene]\nunits = "SI"\ngravity = "down"\n\n'
+    + (DECKS / "watt.toml").read_text(),
     "never.toml": (DECKS / "example.toml").read_text()
     .replace("coupler = 16.0 ", "coupler = 1.0 ").replace("rocker = 12.0 ", "rocker = 1.0 "),
 }
@@ -119,6 +122,9 @@ def test_each_page(pages, name):
         assert "grow without bound" in text
     # the scene's parameters, with units
     u = "m" if m.units == "SI" else "in"
+    if name.startswith("si-"):  # no in-lb-sec unit on an SI page
+        assert not re.search(r"\b(lb|in-lb|in/sec|in-lb-sec\^2)\b", text), name
+        assert " N " in text and " kg" in text
     if scene.has_friction:
         assert "mu = 0.1" in text and f"pin radius = 0.25 {u}" in text
     if name == "friction.toml":
