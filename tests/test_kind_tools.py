@@ -321,3 +321,31 @@ def test_sweep_of_a_slider_crank(tmp_path):
     status, _, err = cli("sweep", str(path), "-o", str(tmp_path / "t.csv"), "--pareto",
                          "FOB_PEAK,TORQ_RMS", "--plot", str(tmp_path / "p.png"))
     assert status == 2 and "'FOB_PEAK' is not a figure" in err and "FN_PEAK" in err
+
+
+def test_balance_of_a_slider_crank(tmp_path):
+    """``sielaff balance`` on a slider-crank: the crank counterweight design.slider_balance
+    computes, printed; ``-o`` writes the spec with it merged into the crank, which reads
+    back as that design (its shaking force the balanced one's); what it cannot do is one
+    line: a six-bar, a deck for output, a rocker's counterweight."""
+    from sielaff.design.slider_balance import slider_balance
+
+    path = DECKS / "slider-crank.toml"
+    out = tmp_path / "balanced.toml"
+    status, stdout, err = cli("balance", str(path), "-o", str(out))
+    assert status == 0 and err == "", err
+    b = slider_balance(SLIDER_EXAMPLE)
+    assert f"on the crank: {b.counterweight.weight:.4g} lb at 2 in from O2" in stdout
+    assert f"primary {b.primary:.4g} lb, secondary {b.secondary:.4g} lb" in stdout
+    back = load_spec(str(out)).mechanism
+    assert back == b.mechanism  # every merged field as computed, the others unchanged
+    th = np.arange(0.0, 360.0, 1.0)
+    assert np.max(analyze(back, th, ["SHAK"])["SHAK"]) == pytest.approx(b.after.peak,
+                                                                        rel=1e-3)
+    for argv, says in ((["balance", str(DECKS / "watt.toml")], "not a WattII"),
+                       (["balance", str(path), "-o", str(tmp_path / "b.dat")],
+                        "written as a TOML spec"),
+                       (["balance", str(path), "--radius4", "2"], "has no rocker")):
+        status, stdout, err = cli(*argv)
+        assert status == 2 and stdout == "" and err.count("\n") == 1 and says in err, err
+    assert not (tmp_path / "b.dat").exists()

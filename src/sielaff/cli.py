@@ -337,7 +337,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also write linkage.gif, one cycle (matplotlib's Pillow writer)")
 
     p = add("balance", "counterweights on the crank and rocker that cancel the shaking "
-            "force (Berkof-Lowen), and what they cost: shaking moment, torque, pin loads")
+            "force (Berkof-Lowen), and what they cost: shaking moment, torque, pin loads; "
+            "for a slider-crank, the crank counterweight and what it leaves")
     p.add_argument("deck", metavar="DECK|SPEC.toml", help=INPUT_HELP)
     p.add_argument("--radius2", type=positive_length, metavar="R",
                    help="the crank's counterweight this far from O2, in the deck's length "
@@ -350,8 +351,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "spec's [scene] branch")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="also write the balanced design: a spec if FILE ends .toml, else a "
-                        "deck (atomically); -: on stdout in the input's form (a spec for a "
-                        "spec), the report then on stderr")
+                        "deck (atomically; a slider-crank's is a spec); -: on stdout in the "
+                        "input's form (a spec for a spec), the report then on stderr")
 
     p = add("sweep", "a grid of designs from a spec's [sweep]: per design the peak and RMS "
             "torque, flywheel, pin loads, shaking force and moment, transmission angle, kind")

@@ -71,7 +71,7 @@ def cmd_balance(args) -> int:
 
     from sielaff.design.balance import balance
     from sielaff.design.report import balance_lines
-    from sielaff.mechanism import FIELD_NAMES
+    from sielaff.mechanism import FIELD_NAMES, Mechanism
     from sielaff.tools.common import (
         CommandError,
         is_spec,
@@ -80,6 +80,7 @@ def cmd_balance(args) -> int:
         refuse_bad_output,
         write_stdout,
     )
+    from sielaff.tools.kinds import other_kinds
     from sielaff.tools.output import atomic_output
     from sielaff.tools.spec import (
         PunchError,
@@ -92,8 +93,10 @@ def cmd_balance(args) -> int:
     path = args.deck
     refuse_bad_output(args.output, [path])
     deck, scene = load_scene(path, ["SHAK"], branch=getattr(args, "branch", None),
-                             any_kind=True)
+                             any_kind=True, kinds=other_kinds())
     m = deck.mechanism
+    if not isinstance(m, Mechanism):
+        return _another_kind(args, deck, scene)
     try:
         with np.errstate(all="ignore"):  # a field past 1E99 is refused just below
             balanced = balance(m, args.radius2, args.radius4)
@@ -176,3 +179,85 @@ def _loading(scene) -> str:
     does: ``applies``), in their own words: "" if none."""
     return ", ".join(e.summary(scene, "in-lb-sec") if e.summary else e.name
                      for e in scene.effects if e.applies)
+
+
+def _another_kind(args, deck, scene) -> int:
+    """A slider-crank's crank counterweight (:func:`sielaff.design.slider_balance`: the
+    rotating mass and half the reciprocating primary, the least peak) and what it leaves,
+    primary and secondary; ``-o`` writes the spec with it merged into the crank (a spec:
+    a 1966 deck is a four-bar's).  Another kind has no balancing: one line says so."""
+    import numpy as np
+
+    from sielaff.design.kinds import is_slider_crank, kind_name
+    from sielaff.design.report import slider_balance_lines
+    from sielaff.design.slider_balance import slider_balance
+    from sielaff.tools.common import CommandError, is_spec, read_spec, write_stdout
+    from sielaff.tools.output import atomic_output
+    from sielaff.tools.spec import spec_text
+
+    path, m = args.deck, deck.mechanism
+    if not is_slider_crank(m):
+        raise CommandError(f"{path}: sielaff balance has counterweights for a four-bar "
+                           f"(Berkof-Lowen) and a slider-crank's crank, not a {kind_name(m)}")
+    if args.radius4 is not None:
+        raise CommandError(f"--radius4 {args.radius4:g}: a slider-crank has no rocker: its "
+                           "counterweight is on the crank (--radius2)")
+    branch = scene.branch if isinstance(scene.branch, str) else "open"
+    try:
+        with np.errstate(all="ignore"):
+            b = slider_balance(m, radius=args.radius2, branch=branch)
+    except ValueError as exc:
+        raise CommandError(f"{path}: {exc}") from None
+    lines = [f"sielaff balance: {path} (units {m.units})", ""] + slider_balance_lines(b)
+    if args.output:
+        to_stdout = args.output == "-"
+        if not (to_stdout or args.output.endswith(".toml")) or not is_spec(path):
+            raise CommandError(f"-o {args.output}: a balanced slider-crank is written as a "
+                               "TOML spec (FILE.toml, or - for a spec): a 1966 deck is a "
+                               "four-bar's")
+        spec = read_spec(path)
+        for (table, key, sub), name in type(m).SPEC_NAMES.items():
+            if name in ("W2", "ZI2", "RG2", "ADEL2"):
+                value = _spec_value(float(getattr(b.mechanism, name)))
+                body = spec.setdefault(table, {})
+                if sub is None:
+                    body[key] = value
+                else:
+                    body.setdefault(key, {})[sub] = value
+        text = spec_text(spec, f"{path} with the crank counterweight of sielaff balance "
+                               "(rotating mass and half the reciprocating primary)")
+        _check_written(text, b.mechanism, args.output)
+        lines += ["", f"Written to {'standard output' if to_stdout else args.output}: the "
+                      "spec with the counterweight merged into the crank (every value as "
+                      "computed)"]
+        if to_stdout:
+            if write_stdout(text):
+                print("\n".join(lines), file=sys.stderr)
+            return 0
+        with atomic_output(args.output) as out:
+            out.write(text)
+    sys.stdout.write("\n".join(lines) + "\n")
+    return 0
+
+
+def _check_written(text: str, balanced, where: str) -> None:
+    """The written spec reads back as the balanced design, field for field (a spec's
+    values are each the shortest decimal of the double), or one line says why not."""
+    import os
+    import tempfile
+
+    from sielaff.tools.common import CommandError, read_spec_deck
+    from sielaff.tools.kinds import other_kinds
+
+    fd, tmp = tempfile.mkstemp(suffix=".toml")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        back = read_spec_deck(tmp, other_kinds())[0].mechanism
+    except CommandError as exc:
+        raise CommandError(f"{where}: the balanced design cannot be written: "
+                           f"{str(exc).split(': ', 1)[-1]}") from None
+    finally:
+        os.unlink(tmp)
+    if back.as_dict() != balanced.as_dict():
+        raise CommandError(f"{where}: the balanced design does not read back as computed")
