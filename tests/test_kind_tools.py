@@ -275,7 +275,8 @@ def test_the_commands_said_to_take_every_kind_do(tmp_path):
     path = spec_with(tmp_path, "slider-crank", extra=(
         '\n[motor]\nkind = "linear"\nstall_torque = 800.0\nno_load_speed = 350.0\n'
         "flywheel = 0.05\nspeed = 300.0\nrevolutions = 1\n"))
-    path.write_text(path.read_text() + "\n[sweep]\nangles = 36\n\n[sweep.vary]\nR3 = [7.0, 8.0]\n")
+    path.write_text(path.read_text() + "\n[sweep]\nangles = 36\n\n[sweep.vary]\nR3 = [7.0, 8.0]\n"
+                    "\n[tolerance]\nn = 20\nangles = 36\n\n[tolerance.deviations]\nR3 = 0.01\n")
     args = {"plot": ["-o", str(tmp_path / "f")], "report": ["-o", str(tmp_path / "r.html")],
             "sweep": ["-o", str(tmp_path / "s.csv")]}
     for command in KIND_COMMANDS:
@@ -291,6 +292,7 @@ def test_the_commands_said_to_take_every_kind_do(tmp_path):
     text = _page_text(tmp_path / "r.html")
     assert "2 designs (2: R3); the Pareto front of TORQ_PEAK and SHAK_PEAK" in text
     assert "The motor" in text and "RMS torque (the continuous rating)" in text
+    assert "Tolerances" in text and "FN_PEAK lb" in text
 
 
 def test_sweep_of_a_slider_crank(tmp_path):
@@ -349,3 +351,26 @@ def test_balance_of_a_slider_crank(tmp_path):
         status, stdout, err = cli(*argv)
         assert status == 2 and stdout == "" and err.count("\n") == 1 and says in err, err
     assert not (tmp_path / "b.dat").exists()
+
+
+def test_tolerance_of_a_six_bar(tmp_path):
+    """``sielaff tolerance`` on a Watt six-bar: deviations of its own fields, its own
+    figures with their units; the nominal column is the engine's on the nominal design
+    over the study's angles; a four-bar's field name is refused naming the kind's."""
+    path = spec_with(tmp_path, "watt", extra=(
+        "\n[tolerance]\nn = 40\nseed = 3\nangles = 72\n\n[tolerance.deviations]\n"
+        "R5 = 0.01\nY6 = 0.02\n"))
+    status, out, err = cli("tolerance", str(path))
+    assert status == 0 and err == "", err
+    assert "deviations (standard deviation): R5 0.01 in, Y6 0.02 in" in out
+    r = analyze(WATT_EXAMPLE, np.arange(72) * 5.0, ["FD56", "FO6"])
+    for name in ("FD56", "FO6"):
+        row = next(line.split() for line in out.splitlines()
+                   if line.split()[:1] == [f"{name}_PEAK"])
+        assert row[1] == "lb"
+        assert float(row[2]) == pytest.approx(float(np.max(r[name])), rel=1e-4)
+    bad = spec_with(tmp_path, "watt", extra="\n[tolerance]\n\n[tolerance.deviations]\n"
+                                            "R9 = 0.01\n")
+    status, out, err = cli("tolerance", str(bad))
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "'R9' is not a field" in err and "R5 R6 X6 Y6" in err

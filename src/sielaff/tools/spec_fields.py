@@ -49,7 +49,7 @@ OTHER_TABLES = ("linkage", "scene", "sweep", "motor", "synthesis", "tolerance")
 #: The four-bar's ``[linkage] kind`` (the default: a spec without ``[linkage]``).
 FOUR_BAR = "four-bar"
 #: The commands that take a linkage of every kind (the others take a four-bar only so far).
-KIND_COMMANDS = ("table", "check", "plot", "simulate", "sweep", "report")
+KIND_COMMANDS = ("table", "check", "plot", "simulate", "sweep", "tolerance", "report")
 
 
 def kind_names() -> dict[str, dict[tuple[str, str, str | None], str]]:

@@ -24,12 +24,15 @@ from __future__ import annotations
 from decimal import Decimal
 
 
-def read_tolerance(spec: dict, path: str) -> dict:
-    """The ``[tolerance]`` table checked (PunchError naming the key)."""
+def read_tolerance(spec: dict, path: str, fields: tuple[str, ...] | None = None) -> dict:
+    """The ``[tolerance]`` table checked (PunchError naming the key); ``fields``: the
+    names a deviation may have (the spec's kind's fields; the four-bar's by default)."""
     from sielaff.design.sweep import MAX_ANGLES
     from sielaff.design.tolerance import DISTRIBUTIONS, MAX_SAMPLES
     from sielaff.mechanism import FIELD_NAMES
     from sielaff.tools.spec import PunchError, spec_whole
+
+    FIELD_NAMES = FIELD_NAMES if fields is None else fields  # noqa: N806
 
     table = spec.get("tolerance")
     where = f"{path}: [tolerance]"
@@ -74,10 +77,11 @@ def _g(v: float) -> str:
 
 def table_lines(t, path: str) -> list[str]:
     """The printed table (units on every number)."""
-    from sielaff.design.figures import FIGURES
+    from sielaff.design.sweep import column_units
     from sielaff.quantities import unit
 
     u = t.units
+    units = column_units(list(t.nominal), u)
     lines = [f"sielaff tolerance: {path} (units {u}), {t.n} samples, {t.distribution}, "
              f"seed {t.seed}; {t.invalid} not a linkage, {t.not_turning} not turning fully",
              "  deviations (" + ("standard deviation" if t.distribution == "normal" else
@@ -87,7 +91,7 @@ def table_lines(t, path: str) -> list[str]:
              f"  {'figure':11} {'unit':12} {'nominal':>12} {'mean':>12} {'std':>12} "
              f"{'5%':>12} {'95%':>12} {'1st-order std':>13}"]
     for f in t.nominal:
-        fu = unit(FIGURES[f][0], u)
+        fu = units[f]
         lines.append(f"  {f:11} {fu:12} {_g(t.nominal[f])} {_g(t.mean[f])} {_g(t.std[f])} "
                      f"{_g(t.p5[f])} {_g(t.p95[f])} {t.predicted_std[f]:13.5g}")
     lines += ["", "  sensitivities d figure / d field (central differences), in the figure's "
@@ -104,10 +108,22 @@ def tolerance_spec(path: str):
     """(the nominal deck in the spec's units, its Scene, the checked ``[tolerance]``) of
     the spec at ``path`` (``sielaff tolerance``, and ``sielaff report``'s section);
     bad input is a CommandError of one line, a nominal design that is not a
-    crank-rocker exit 3."""
-    from sielaff.tools.common import mechanism_problem, read_spec_with
+    crank-rocker (or another kind's whose crank cannot turn fully) exit 3."""
+    from sielaff.design.kinds import fields_of
+    from sielaff.mechanism import Mechanism
+    from sielaff.tools.common import CommandError, mechanism_problem, read_spec_with
+    from sielaff.tools.kinds import other_kind, other_kinds
+    from sielaff.tools.spec import PunchError
 
-    deck, scene, task = read_spec_with(path, read_tolerance)
+    deck, scene, spec = read_spec_with(path, lambda spec, _: spec, kinds=other_kinds())
+    assert deck is not None
+    four_bar = isinstance(deck.mechanism, Mechanism)
+    try:
+        task = read_tolerance(spec, path, None if four_bar else fields_of(deck.mechanism))
+    except PunchError as exc:
+        raise CommandError(str(exc), exc.status) from None
+    if not four_bar:
+        return other_kind(deck, scene), scene, task  # its crank turns fully (else exit 3)
     problem = mechanism_problem(deck)  # the nominal design is a crank-rocker (else exit 3)
     if problem is not None:
         raise problem

@@ -63,22 +63,12 @@ from sielaff.tools.report.sections import (  # noqa: F401  (tests read them here
     peaks_table,
     scene_section,
     sweep_section,
+    tolerance_section,
 )
 
 #: Frames of the page's animation: 15 degrees apart for a crank that turns fully (a page
 #: is read, not played; ``plot --animate`` draws 36).
 FRAMES = 24
-
-
-def tolerance_section(deck: Deck, scene: Scene, task: dict) -> list[str]:
-    """For a spec with a ``[tolerance]``: the study it asks for, as ``sielaff tolerance``
-    prints it (each figure's nominal, sampled spread and first-order estimate, and the
-    sensitivities, every number with its unit)."""
-    from sielaff.tools.tolerance import run_tolerance, table_lines
-
-    t = run_tolerance(deck, scene, task)
-    return ["<h2>Tolerances</h2>",
-            f"<pre>{html.escape(chr(10).join(table_lines(t, deck.path)))}</pre>"]
 
 
 #: Rows of a synthesis's ranking shown on the page (``sielaff synth`` writes them all).
@@ -469,7 +459,8 @@ def cmd_report(args: Any) -> int:
             else:
                 from sielaff.tools.report.kinds import kind_report_html
 
-                page = kind_report_html(deck, scene, command, at=args.at, motor=motor)
+                page = kind_report_html(deck, scene, command, at=args.at, motor=motor,
+                                        tolerances=task)
     if args.output == "-":
         sys.stdout.write(page)
         return 0

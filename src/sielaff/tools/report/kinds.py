@@ -17,7 +17,8 @@ The same page as the four-bar's, composed from the same commands' work for the k
 * balancing: a slider-crank's crank counterweight (:func:`sielaff.design.slider_balance`);
   for the others the page says why none is offered;
 * a ``[sweep]``'s Pareto front of the kind's figures (:func:`sections.sweep_section`);
-* a ``[motor]`` spec's simulation and sizing (:func:`sections.motor_section`).
+* a ``[motor]`` spec's simulation and sizing (:func:`sections.motor_section`);
+* a ``[tolerance]`` study (:func:`sections.tolerance_section`).
 """
 
 from __future__ import annotations
@@ -35,13 +36,14 @@ from sielaff.tools.report.sections import (
     peaks_table,
     scene_section,
     sweep_section,
+    tolerance_section,
 )
 
 __all__ = ["kind_report_html"]
 
 
 def kind_report_html(deck: Deck, scene: Scene, command: str, at: float | None = None,
-                     motor: dict | None = None) -> str:
+                     motor: dict | None = None, tolerances: dict | None = None) -> str:
     """The whole page for ``deck`` (a spec of another kind) in ``scene`` (module doc)."""
     from sielaff.design.kinds import is_slider_crank, kind_name
     from sielaff.tools.check.kinds import check_kind
@@ -80,6 +82,8 @@ def kind_report_html(deck: Deck, scene: Scene, command: str, at: float | None = 
     parts += sweep_section(deck.path, deck, scene)
     if motor is not None:
         parts += motor_section(deck, scene, motor)
+    if tolerances is not None:
+        parts += tolerance_section(deck, scene, tolerances)
     return page(parts, command)
 
 

@@ -1,6 +1,6 @@
 """The sections every report page shares, whatever the linkage's kind: the scene's
-effects, the peaks table, a ``[sweep]``'s Pareto front, and a ``[motor]`` spec's
-simulation with its sizing."""
+effects, the peaks table, a ``[sweep]``'s Pareto front, a ``[tolerance]`` study, and a
+``[motor]`` spec's simulation with its sizing."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from sielaff.engine.scene import Scene  # noqa: TC001
 from sielaff.quantities import fmt
 from sielaff.tools.report.page import figure, png
 
-__all__ = ["motor_section", "peak_rows", "peaks_table", "scene_section", "sweep_section"]
+__all__ = ["motor_section", "peak_rows", "peaks_table", "scene_section", "sweep_section",
+           "tolerance_section"]
 
 #: A sweep larger than this is summarised by ``sielaff sweep``, not run for a page.
 SWEEP_LIMIT = 20_000
@@ -166,3 +167,14 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
           designs=data[:, cols.index("DESIGN")], mechanism=deck.mechanism)
     return out + rows + [figure(buf.getvalue(), "image/png",
                                  f"The sweep's designs and the Pareto front of {px} and {py}")]
+
+
+def tolerance_section(deck: Deck, scene: Scene, task: dict) -> list[str]:
+    """For a spec with a ``[tolerance]``: the study it asks for, as ``sielaff tolerance``
+    prints it (each figure's nominal, sampled spread and first-order estimate, and the
+    sensitivities, every number with its unit)."""
+    from sielaff.tools.tolerance import run_tolerance, table_lines
+
+    t = run_tolerance(deck, scene, task)
+    return ["<h2>Tolerances</h2>",
+            f"<pre>{html.escape(chr(10).join(table_lines(t, deck.path)))}</pre>"]
