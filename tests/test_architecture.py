@@ -34,7 +34,7 @@ SRC = ROOT / "src"
 SHARED_TOOLS = {"sielaff.tools.common", "sielaff.tools.output", "sielaff.tools.progress",
                 "sielaff.tools.errors", "sielaff.tools.spec", "sielaff.tools.spec_fields",
                 "sielaff.tools.spec_scene", "sielaff.tools.spec_sweep",
-                "sielaff.tools.spec_tables", "sielaff.tools.kinds"}
+                "sielaff.tools.spec_tables", "sielaff.tools.kinds", "sielaff.tools.problems"}
 
 
 def module_name(path: Path) -> str:

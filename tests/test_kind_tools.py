@@ -183,10 +183,15 @@ def test_bad_kind_specs_are_one_line(tmp_path, kind, old, new, says):
         assert err.count("\n") == 1 and says in err, (command, err)
 
 
-def test_a_six_bar_that_cannot_turn_is_checked_exit_3(tmp_path):
+def test_a_six_bar_that_cannot_turn_is_usable_where_it_assembles(tmp_path):
+    """As a four-bar that is not a crank-rocker: check says so, exit 0; --crank-rocker
+    requires a crank that turns (exit 3, one line)."""
     path = spec_with(tmp_path, "watt", "link6 = 9.0 ", "link6 = 4.0 ")
     path.write_text(path.read_text().replace("link5 = 10.0 ", "link5 = 6.0 "))
     status, out, err = cli("check", str(path))
+    assert status == 0 and err == "" and "cannot turn fully" in out
+    assert "Verdict: usable where it assembles" in out
+    status, out, err = cli("check", str(path), "--crank-rocker")
     assert status == 3 and err.count("\n") == 1 and "cannot turn fully" in out
     status, out, err = cli("table", str(path))
     assert status == 0 and "positions left out" in err
@@ -374,3 +379,96 @@ def test_tolerance_of_a_six_bar(tmp_path):
     status, out, err = cli("tolerance", str(bad))
     assert status == 2 and out == "" and err.count("\n") == 1
     assert "'R9' is not a field" in err and "R5 R6 X6 Y6" in err
+
+
+def test_a_six_bar_spec_names_a_branch_per_dyad(tmp_path):
+    """``[scene] branch`` one per dyad (B's, then D's) is the engine's Scene(branch=...);
+    a branch on which some dyad closes nowhere is said in one line naming it, not taken
+    for numbers out of range; a list for a linkage of one dyad, or of the wrong length,
+    is one line too."""
+    head = '[scene]\nbranch = ["open", "crossed"]\n\n'
+    path = tmp_path / "w.toml"
+    path.write_text(head + (DECKS / "watt.toml").read_text())
+    status, out, err = cli("table", str(path))
+    assert status == 0, err
+    rows = list(csv.reader(io.StringIO(out)))
+    col = rows[0].index("ATH5[deg]")
+    th = [float(r[1]) for r in rows[1:]]
+    want = analyze(WATT_EXAMPLE, th, ["ATH5"], branch=("open", "crossed"))["ATH5"]
+    np.testing.assert_array_equal([float(r[col]) for r in rows[1:]], want)
+    status, out, err = cli("table", str(DECKS / "watt.toml"), "--branch", "crossed")
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "on the crossed branch: the RRR dyad at D (links 5 and 6) cannot close" in err
+    for text, says in ((head.replace('"crossed"]', '"crossed", "open"]'),
+                        "for each of the 2 dyads"),
+                       (head.replace('"crossed"', '"sideways"'), "branch[1] = 'sideways'")):
+        path.write_text(text + (DECKS / "watt.toml").read_text())
+        status, out, err = cli("check", str(path))
+        assert status == 2 and err.count("\n") == 1 and says in err, err
+    path.write_text(head + (DECKS / "slider-crank.toml").read_text())
+    status, out, err = cli("check", str(path))
+    assert status == 2 and "[scene] branch = ['open', 'crossed']" in err
+
+
+@pytest.mark.parametrize("kind, extra, argv, says", [
+    ("watt", "", ["table", "{path}", "--branch", "crossed"], "on the crossed branch"),
+    ("watt", "\n[scene.friction]\nmu = 5.0\nradius = 3.0\n", ["table", "{path}"],
+     "[scene] joint friction: the friction law has no solution at THETA 2 = 0 deg"),
+    ("slider-crank", '\n[[scene.spring]]\na = { link = "crank", distance = 0, angle = 0 }\n'
+     'b = { link = "frame", distance = 0, angle = 0 }\nk = 10.0\nlength = 1.0\n',
+     ["check", "{path}"], "[scene] spring 1 has its two points at one place"),
+    ("stephenson", "", ["plot", "{path}", "-o", "{out}", "--linkage", "--at", "0",
+                        "--branch", "crossed"], "--at 0: the linkage does not assemble"),
+    ("slider-crank", "", ["balance", "{path}", "--radius2", "1e-300"],
+     "--radius2 1e-300: the merged crank's W2 would be"),
+])
+def test_what_a_kind_cannot_do_is_one_true_line(tmp_path, kind, extra, argv, says):
+    """Each failure as the four-bar's: one line, its own reason (not a NaN called out of
+    range, not a note before it), exit 2, nothing written."""
+    if argv[0] == "plot":
+        pytest.importorskip("matplotlib")
+    path = spec_with(tmp_path, kind, extra=extra)
+    out = tmp_path / "out"
+    status, stdout, err = cli(*[a.format(path=path, out=out) for a in argv])
+    assert status == 2 and stdout == "" and err.count("\n") == 1, err
+    assert says in err and ("1E99" not in err or argv[0] == "balance"), err
+    assert not out.exists()
+
+
+def test_a_kind_s_range_is_bounded_as_a_deck_s(tmp_path):
+    """The ceiling on positions holds for every kind: refused at once, naming the range."""
+    path = spec_with(tmp_path, "watt", "stop = 360.0", "stop = 1e9")
+    status, out, err = cli("table", str(path))
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "past the ceiling of 10,000,000" in err
+
+
+def test_another_branch_leaves_no_warning_per_position(tmp_path):
+    """A six-bar whose second dyad, crossed, closes over part of the revolution: table
+    says once how many positions it leaves out; report and sweep say nothing of the
+    positions (no engine warning on stderr)."""
+    pytest.importorskip("matplotlib")
+    path = DECKS / "stephenson.toml"
+    status, out, err = cli("table", str(path), "--branch", "crossed")
+    assert status == 0 and "9 of 13 positions left out" in err and "nan" not in out
+    status, out, err = cli("report", str(path), "--branch", "crossed", "-o",
+                           str(tmp_path / "r.html"))
+    assert (status, err) == (0, "")
+    sweep = spec_with(tmp_path, "stephenson", extra="\n[sweep]\nangles = 36\n\n[sweep.vary]\n"
+                                                    "R5 = [11.0, 12.0]\n")
+    status, out, err = cli("sweep", str(sweep), "--branch", "crossed", "-o",
+                           str(tmp_path / "s.csv"))
+    assert status == 0 and "ASSEMBLED" not in err and "warning" not in err, err
+    assert "2 of 2 designs left out" in err
+
+
+def test_simulate_a_slider_crank_with_joint_friction(tmp_path):
+    """The four-bar's friction tables are its pins: another kind's friction is the
+    engine's at each state (a quarter revolution here)."""
+    pytest.importorskip("scipy")
+    path = spec_with(tmp_path, "slider-crank", extra=(
+        "\n[scene.friction]\nmu = 0.1\nradius = 0.25\n"
+        '\n[motor]\nkind = "linear"\nstall_torque = 800.0\nno_load_speed = 350.0\n'
+        "flywheel = 0.05\nspeed = 300.0\nrevolutions = 0.25\n"))
+    status, out, err = cli("simulate", str(path))
+    assert status == 0 and "0.25 revolutions in" in err, err

@@ -111,6 +111,8 @@ def test_a_crank_that_cannot_turn_fully_is_tabled_where_it_assembles(tmp_path):
     grid = np.arange(0.0, 361.0, 30.0)
     assert np.array_equal(th, grid[2 * np.sin(np.radians(grid)) > -1.0 + 1e-9])
     status, out, err = cli("check", str(path))
+    assert status == 0 and err == "" and "Verdict: usable where it assembles" in out
+    status, out, err = cli("check", str(path), "--crank-rocker")
     assert status == 3 and err.count("\n") == 1 and "[lengths]" in err
 
 

@@ -407,7 +407,9 @@ def _simulate(mechanism, motor, *, flywheel, scene, speed0, revolutions, steady,
     tab = _Tables(mechanism, sc, scale) if tables and not nonlinear else None
     if tab is not None and not tab.ok:
         tab = None
-    ftab = FrictionTables(mechanism, sc, scale, f_in) if tables and nonlinear else None
+    # the friction tables are the four-bar's pins; another kind's friction: the engine
+    ftab = FrictionTables(mechanism, sc, scale, f_in) \
+        if tables and nonlinear and isinstance(mechanism, Mechanism) else None
     if ftab is not None and not ftab.ok:
         ftab = None
     count = [0]

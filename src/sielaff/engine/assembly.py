@@ -101,9 +101,10 @@ def assembly_failure(topology: Topology, values: dict[str, Any], branch: Any = "
         mi = m[i]
         ok = np.isfinite(mi) & (mi > 0.0)
         if not ok.all():
-            spans = ", ".join(f"{a:g} to {b:g}" for a, b in arcs(ok, th)) or "nowhere"
-            return (f"{dyad_name(topology, i)} reaches its toggle or cannot close: the "
-                    f"linkage assembles for THETA 2 from {spans} deg")
+            spans = ", ".join(f"{a:g} to {b:g}" for a, b in arcs(ok, th))
+            where = (f"the linkage assembles for THETA 2 from {spans} deg" if spans else
+                     "it closes at no crank angle")
+            return f"{dyad_name(topology, i)} reaches its toggle or cannot close: {where}"
         j = int(np.argmin(mi))
         least = _refine(topology, values, branch, i, th[j])
         if not least > 0.0:

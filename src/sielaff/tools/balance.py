@@ -93,7 +93,7 @@ def cmd_balance(args) -> int:
     path = args.deck
     refuse_bad_output(args.output, [path])
     deck, scene = load_scene(path, ["SHAK"], branch=getattr(args, "branch", None),
-                             any_kind=True, kinds=other_kinds())
+                             any_kind=True, kinds=other_kinds(), note=False)
     m = deck.mechanism
     if not isinstance(m, Mechanism):
         return _another_kind(args, deck, scene)
@@ -203,11 +203,19 @@ def _another_kind(args, deck, scene) -> int:
         raise CommandError(f"--radius4 {args.radius4:g}: a slider-crank has no rocker: its "
                            "counterweight is on the crank (--radius2)")
     branch = scene.branch if isinstance(scene.branch, str) else "open"
+    where = path if args.radius2 is None else f"{path}: --radius2 {args.radius2:g}"
     try:
         with np.errstate(all="ignore"):
             b = slider_balance(m, radius=args.radius2, branch=branch)
     except ValueError as exc:
-        raise CommandError(f"{path}: {exc}") from None
+        raise CommandError(f"{where}: {exc}") from None
+    for k in ("W2", "ZI2", "RG2"):  # a radius far from the crank's: the 1410's range
+        v = float(getattr(b.mechanism, k))
+        if not abs(v) < 1e99 or (k != "RG2" and 0.0 < abs(v) < 1e-99):
+            from sielaff.quantities import unit
+
+            raise CommandError(f"{where}: the merged crank's {k} would be {v:.3g} "
+                               f"{unit(k, m.units)}, past the IBM 1410's range (1E99)")
     lines = [f"sielaff balance: {path} (units {m.units})", ""] + slider_balance_lines(b)
     if args.output:
         to_stdout = args.output == "-"

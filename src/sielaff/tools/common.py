@@ -24,6 +24,7 @@ from sielaff.tools.errors import (  # noqa: F401 (re-exported: every command's s
     EXIT_NOT_CRANK_ROCKER,
     CommandError,
 )
+from sielaff.tools.problems import nan_reason, range_problem  # noqa: F401
 
 if TYPE_CHECKING:
     from sielaff.engine.scene import Scene
@@ -354,42 +355,6 @@ def mechanism_problem(deck: Deck) -> CommandError | None:
     return None
 
 
-def range_problem(deck: Deck, arithmetic="float64", max_sheets: int | None = None
-                  ) -> CommandError | None:
-    """The first range card the 1966 loop would never leave, or whose sheets (with the
-    cards before it) pass the ceiling :data:`sielaff.emulator.ranges.MAX_SHEETS`, as one error
-    naming the card and columns; None if the deck's ranges are fine.  With
-    ``max_sheets`` the run stops there, so only a range that never ends is refused."""
-    from sielaff.emulator.ranges import MAX_SHEETS, sheet_count
-
-    ceiling = MAX_SHEETS if max_sheets is None else max_sheets
-    total = 0
-    name = arithmetic if isinstance(arithmetic, str) else getattr(arithmetic, "name", "")
-    for card, (thzero, delta, thmax) in zip(deck.range_cards, deck.ranges):
-        n = sheet_count(thzero, delta, thmax, arithmetic)
-        what = (f"{deck.path}: card {card}, columns 1-24: THZERO = {thzero:g}, DELTA = "
-                f"{delta:g}, THMAX = {thmax:g}")
-        if n is None:
-            if max_sheets is not None:
-                return None  # the run stops at --max-sheets
-            where = f"{deck.path}: card {card}, columns 9-16: DELTA = {delta:g}"
-            if delta <= 0:
-                return CommandError(f"{where} with THZERO = {thzero:g} <= THMAX = {thmax:g}: "
-                                    "the 1966 loop would never end")
-            return CommandError(f"{where} is too small to move THETA 2 = {thzero:g} in {name} "
-                                f"arithmetic: ATH2 = TH + I*DELTA never passes THMAX = "
-                                f"{thmax:g}, so the 1966 loop would never end")
-        total += n
-        if total > ceiling and max_sheets is None:
-            count = f"{n:,}" if n < 10**12 else f"{n:.2E}".replace("+", "")
-            return CommandError(f"{what}: {count} sheets, past the ceiling of "
-                                f"{MAX_SHEETS:,} for a deck (--max-sheets N prints the first "
-                                "N; or check DELTA)")
-        if total > ceiling:
-            return None
-    return None
-
-
 def load_runnable(path: str, arithmetic="float64", max_sheets: int | None = None) -> Deck:
     """A deck for the emulator: lengths it can hold, ranges that end.
 
@@ -478,7 +443,7 @@ def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
         if kind != FOUR_BAR and kind not in kinds:
             takers = ", ".join(KIND_COMMANDS[:-1]) + " and " + KIND_COMMANDS[-1]
             raise PunchError(f'{path}: [linkage] kind = "{kind}": this command takes a '
-                             f"four-bar only so far (sielaff {takers} take a {kind})")
+                             f"four-bar only so far (sielaff {takers} take this kind)")
         units, scene = scene_of(spec, path)
         own = None if read is None else read(spec, path)
         made = spec_deck(spec, path) if deck else None
@@ -490,7 +455,8 @@ def read_spec_with(path: str, read: Callable[[dict, str], Any] | None = None,
 
 
 def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str | None = None,
-               any_kind: bool = False, kinds: tuple[str, ...] = ()) -> tuple[Deck, Scene]:
+               any_kind: bool = False, kinds: tuple[str, ...] = (), note: bool = True
+               ) -> tuple[Deck, Scene]:
     """A deck, or a TOML spec (``*.toml``) with its ``[scene]``, for the modern engine:
     (the deck, its Scene).  Checked as ``load_for_engine``
     says, with the scene's effects in the results; with ``any_linkage`` any four-bar
@@ -500,7 +466,9 @@ def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str |
     crank-rocker: a linkage whose crank cannot turn fully is worked over the arcs where
     it assembles, and stderr says which (:func:`kind_note`).  A spec of another
     ``[linkage] kind`` is taken if ``kinds`` names it (:func:`other_kind`), else refused
-    in one line.  ``outputs`` may be a function of the mechanism (its model's names)."""
+    in one line; ``note=False`` leaves out its stderr line on the arcs it is worked over
+    (a command that says more itself).  ``outputs`` may be a function of the mechanism
+    (its model's names)."""
     import dataclasses
 
     if is_spec(path):
@@ -516,7 +484,8 @@ def load_scene(path: str, outputs=None, any_linkage: bool = False, branch: str |
     if not isinstance(deck.mechanism, Mechanism):
         from sielaff.tools.kinds import other_kind
 
-        return other_kind(deck, scene, outputs, any_kind or any_linkage), scene
+        return other_kind(deck, scene, outputs, any_kind or any_linkage,
+                          note=note and not any_linkage), scene
     if any_linkage:  # any four-bar (plot --linkage): only a mechanism that can exist
         problem = mechanism_problem(deck)
         if problem is not None and problem.status == EXIT_DECK:
@@ -621,7 +590,7 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
     if worst is None:
         return None
     if value != value and scene is not None:  # NaN: an effect's own reason, if it has one
-        why = _nan_reason(deck, scene, at)
+        why = nan_reason(deck, scene, at)
         if why:
             return CommandError(f"{deck.path}: [scene] {why}")
     effects = describe_scene(scene, deck.mechanism.units)
@@ -632,40 +601,6 @@ def results_problem(deck: Deck, outputs=None, scene: Scene | None = None
     return CommandError(f"{deck.path}: card 6: TH2D = {deck.mechanism.TH2D:g} rad/sec with "
                         f"these lengths and weights gives {worst} = {value:.3g} {unit(worst)}, "
                         "past the IBM 1410's range (1E99): the 1966 program cannot print it")
-
-
-def _nan_reason(deck: Deck, scene: Scene, at: float) -> str | None:
-    """Why the results are NaN at THETA 2 = ``at`` [deg], if an effect knows: a spring or
-    a damper of length zero (its direction undefined), or pin friction with no solution
-    (the linkage self-locks there)."""
-    import warnings
-
-    import numpy as np
-
-    from sielaff.engine import analyze
-
-    names = []
-    if scene.elements:
-        names += [f"{k}{j}_L" for k in ("SPRING", "DAMPER") for j in range(1, 9)]
-    if scene.has_friction:
-        names.append("FRICTION_STATUS")
-    if not names:
-        return None
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        r = analyze(deck.mechanism, at, names, scene=scene)
-    kinds = {"SPRING": 0, "DAMPER": 0}
-    for e in scene.elements:
-        kind = "SPRING" if type(e).__name__ == "Spring" else "DAMPER"
-        kinds[kind] += 1
-        length = float(r[f"{kind}{kinds[kind]}_L"])
-        if not length > 0.0:
-            return (f"{kind.lower()} {kinds[kind]} has its two points at one place at THETA 2 "
-                    f"= {at:g} deg: its length is 0 and its direction undefined")
-    if "FRICTION_STATUS" in r and float(r["FRICTION_STATUS"]) == 2.0:
-        return (f"pin friction: the friction law has no solution at THETA 2 = {at:g} deg (the "
-                "linkage self-locks there with this friction)")
-    return None
 
 
 def work_text(work: float, abs_work: float, units: str = "in-lb-sec") -> str:

@@ -24,7 +24,7 @@ OWN_KEYS = ("units", "branch")
 _HEAD = """\
 [scene]
 units = "in-lb-sec"           # or "SI" (the whole spec is then in SI)
-branch = "open"               # or "crossed\""""
+branch = "open"               # or "crossed"; a six-bar: one per dyad, ["open", "crossed"]"""
 
 
 class _Reader:
@@ -87,8 +87,18 @@ def scene_of(spec: dict, path: str = "<spec>") -> tuple[str, Scene]:
     _unknown(f"{path}: [scene]", scene, scene_keys(kind))
     units = _name(f"{path}: [scene] units", scene.get("units", "in-lb-sec"),
                   tuple(STANDARD_GRAVITY), " or ".join(STANDARD_GRAVITY))
-    fields: dict = {"branch": _name(f"{path}: [scene] branch", scene.get("branch", "open"),
-                                    ("open", "crossed"))}
+    branch = scene.get("branch", "open")
+    dyads = len(getattr(_model(kind), "topology", None).dyads) \
+        if getattr(_model(kind), "topology", None) is not None else 1
+    if isinstance(branch, list) and dyads > 1:  # one per dyad, in solve order
+        if len(branch) != dyads:
+            raise PunchError(f"{path}: [scene] branch = {branch!r}: one of \"open\" and "
+                             f"\"crossed\" for each of the {dyads} dyads, or one for all")
+        branch = tuple(_name(f"{path}: [scene] branch[{i}]", b, ("open", "crossed"))
+                       for i, b in enumerate(branch))
+    else:
+        branch = _name(f"{path}: [scene] branch", branch, ("open", "crossed"))
+    fields: dict = {"branch": branch}
     reader = _reader(_model(kind))
     for effect in _effects(kind):
         fields.update(effect.spec.read(scene, path, reader))

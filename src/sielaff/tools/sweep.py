@@ -128,9 +128,13 @@ def _pareto(x, y, senses=("min", "min")):
 
 
 def cmd_sweep(args) -> int:
+    import warnings
+
     import numpy as np
 
     from sielaff.design.sweep import Grid, columns, iter_blocks
+    from sielaff.engine import AssemblyWarning
+    from sielaff.mechanism import Mechanism
     from sielaff.tools.common import (
         CommandError,
         read_spec,
@@ -167,6 +171,13 @@ def cmd_sweep(args) -> int:
         import dataclasses
 
         scene = dataclasses.replace(scene, branch=args.branch)
+    if not isinstance(deck.mechanism, Mechanism):  # a branch on which it closes nowhere
+        from sielaff.tools.kinds import full_turn_failure
+
+        try:
+            full_turn_failure(deck.mechanism, scene.branch)
+        except CommandError as exc:
+            raise CommandError(f"{path}: {exc}") from None
     try:
         sweep = sweep_of(read_spec(path), path, deck.mechanism)
     except PunchError as exc:
@@ -209,6 +220,11 @@ def cmd_sweep(args) -> int:
     xs, ys, ds = [], [], []
     dropped: dict[int, int] = {}  # KIND index -> designs left out
     paths = [p for p in (args.output, args.plot) if p]
+    # a design that does not assemble somewhere is left out and counted below (its NaN
+    # figures), not warned about position by position
+    quiet = warnings.catch_warnings()
+    quiet.__enter__()
+    warnings.simplefilter("ignore", AssemblyWarning)
     try:
         with atomic_files(paths) as temps:
             out = open(temps[0], "w", newline="") if args.output else sys.stdout  # noqa: SIM115
@@ -236,6 +252,7 @@ def cmd_sweep(args) -> int:
                       tuple(p for p, _ in pair), m.units, grid.size,
                       tuple(s for _, s in pair), designs=np.concatenate(ds), mechanism=m)
     finally:
+        quiet.__exit__(None, None, None)
         if client is not None:
             _close(client)
     left_out = sum(dropped.values())

@@ -281,7 +281,7 @@ def cmd_table(args: argparse.Namespace) -> int:
     with atomic_output(args.output) as out:
         write_table(deck, out, args.format, args.only == "kinematics", warn,
                     units=getattr(args, "header", "units") == "units", scene=scene,
-                    assembled_only=not turns_whole(deck.mechanism),
+                    assembled_only=not turns_whole(deck.mechanism, scene.branch),
                     torque_parts=parts)
     return 0
 

@@ -186,11 +186,10 @@ def cmd_check(args) -> int:
         scene = dataclasses.replace(scene, branch=args.branch)
     if not isinstance(deck.mechanism, Mechanism):  # another kind: its own report
         from sielaff.tools.check.kinds import check_kind, kind_facts
-        from sielaff.tools.kinds import other_kind, turns_whole
+        from sielaff.tools.kinds import other_kind
 
-        if turns_whole(deck.mechanism):  # else the report says why, exit 3
-            other_kind(deck, scene)
-        rep, facts = check_kind(deck, scene)
+        other_kind(deck, scene, any_kind=True, note=False)  # the report says the arcs
+        rep, facts = check_kind(deck, scene, getattr(args, "crank_rocker", False))
         text = rep.text if getattr(args, "format", "text") == "text" else kind_facts(facts)
         return _finish(rep, text, output)
     rep = check_deck(deck, scene=scene, crank_rocker=getattr(args, "crank_rocker", False),

@@ -189,14 +189,16 @@ def _inverted_geometry(m: Any, rep: CheckReport, facts: dict[str, Any]) -> None:
                              "time_ratio": q.time_ratio}
 
 
-def check_kind(deck: Any, scene: Any) -> tuple[CheckReport, dict[str, Any]]:
+def check_kind(deck: Any, scene: Any, crank_rocker: bool = False
+               ) -> tuple[CheckReport, dict[str, Any]]:
     """The report for another kind's spec ``deck`` in ``scene`` (see the module doc), and
-    its facts for ``--format json``."""
-    from sielaff.engine import model_for
+    its facts for ``--format json``.  A crank that cannot turn fully is usable (status 0:
+    the commands work over the arcs where it assembles), as a four-bar that is not a
+    crank-rocker is; ``crank_rocker`` (``check --crank-rocker``) requires one (exit 3)."""
     from sielaff.tools.common import describe_scene
+    from sielaff.tools.kinds import full_turn_failure
 
     m = deck.mechanism
-    model = model_for(m)
     system = m.units
     rep = CheckReport()
     facts: dict[str, Any] = {"kind": m.KIND, "units": system}
@@ -205,14 +207,18 @@ def check_kind(deck: Any, scene: Any) -> tuple[CheckReport, dict[str, Any]]:
     _fields(deck, rep)
     rep.add()
     rep.add("Geometry")
-    failure = model.full_turn(m) if model.full_turn else None
+    failure = full_turn_failure(m, scene.branch)
     if failure:
         rep.add(f"  the crank cannot turn fully: {failure}")
         rep.add()
-        rep.status = EXIT_NOT_CRANK_ROCKER
-        rep.error = f"{deck.path}: [lengths]: {failure}"
-        rep.add("Verdict: the crank rocks between its limits; sielaff table gives the positions "
-                "where it assembles (exit 3 here)")
+        if crank_rocker:
+            rep.status = EXIT_NOT_CRANK_ROCKER
+            rep.error = f"{deck.path}: [lengths]: {failure}"
+            rep.add("Verdict: --crank-rocker: the crank rocks between its limits (exit 3)")
+        else:
+            rep.add("Verdict: usable where it assembles: the crank rocks between its limits "
+                    "(sielaff table, plot and report work over those arcs; no revolution, so "
+                    "no peaks over one, cycle work or flywheel)")
         facts.update(status=rep.status, error=rep.error, lines=rep.lines)
         return rep, facts
     rep.add("  the crank turns fully: every dyad closes over the whole revolution")

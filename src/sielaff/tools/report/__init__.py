@@ -436,7 +436,8 @@ def cmd_report(args: Any) -> int:
         else:
             from sielaff.tools.kinds import other_kinds
 
-            deck, scene = load_scene(args.deck, any_linkage=True, kinds=other_kinds())
+            deck, scene = load_scene(args.deck, any_linkage=True, kinds=other_kinds(),
+                                     branch=args.branch or None)
         if args.branch:
             scene = scene.replace(branch=args.branch)
         from sielaff.mechanism import Mechanism

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import html
 import io
+import warnings
 from typing import Any
 
 import numpy as np
@@ -127,6 +128,7 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
     """For a spec with a ``[sweep]``: its Pareto front as a table (the designs no other
     beats in both figures, by the first) and the Pareto picture; nothing otherwise."""
     from sielaff.design.sweep import Grid, column_units, columns, iter_blocks
+    from sielaff.engine import AssemblyWarning
     from sielaff.tools.common import is_spec, read_spec
     from sielaff.tools.spec import sweep_of
     from sielaff.tools.sweep import _pareto, _plot
@@ -143,7 +145,9 @@ def sweep_section(path: str, deck: Deck, scene: Scene) -> list[str]:
         return out + [f"<p>{grid.size:,} designs: more than a page runs "
                       f"({SWEEP_LIMIT:,}); <code>sielaff sweep</code> evaluates them.</p>"]
     cols = columns(grid)
-    data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
+    with warnings.catch_warnings():  # designs that do not assemble: NaN figures, shown
+        warnings.simplefilter("ignore", AssemblyWarning)
+        data = np.concatenate(list(iter_blocks(grid, sw["angles"], sw["cf"], scene)), axis=0)
     px, py = sw["pareto"]
     senses = sw.get("senses", ("min", "min"))  # each figure minimised or maximised
     x, y = data[:, cols.index(px)], data[:, cols.index(py)]
