@@ -472,3 +472,16 @@ def test_simulate_a_slider_crank_with_joint_friction(tmp_path):
         "flywheel = 0.05\nspeed = 300.0\nrevolutions = 0.25\n"))
     status, out, err = cli("simulate", str(path))
     assert status == 0 and "0.25 revolutions in" in err, err
+
+
+@pytest.mark.parametrize("kind, old, new, says", [
+    ("watt", "frame = 12.0 ", "frame = -2.0 ", "WattII.R1 = -2 m: must be > 0"),
+    ("slider-crank", "rod = 8.0 ", "rod = 0.0 ", "SliderCrank.R3 = 0 m: the crank and the rod"),
+    ("inverted-slider-crank", "crank = 2.0\n", "crank = -1.0\n", "W2 = -1: weights"),
+])
+def test_a_bad_field_of_an_si_spec_is_in_si_units(tmp_path, kind, old, new, says):
+    path = spec_with(tmp_path, kind, old, new)
+    path.write_text('[scene]\nunits = "SI"\n\n' + path.read_text())
+    status, out, err = cli("check", str(path))
+    assert status == 2 and err.count("\n") == 1 and says in err, err
+    assert not re.search(r"\b(in|lb)\b:", err)

@@ -49,7 +49,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from sielaff.mechanism import STANDARD_GRAVITY
+from sielaff.mechanism import STANDARD_GRAVITY, field_unit
 
 __all__ = ["PRR", "RPR", "RRP", "RRR", "Crank", "Guide", "Kind", "Linkage", "Pivot", "Point",
            "Topology", "check_values", "mass_fields"]
@@ -277,7 +277,8 @@ class Kind:
             v = np.asarray(getattr(self, name), dtype=float)
             if not np.all(v > 0.0):
                 raise ValueError(f"{where}.{name} = {_first(v, ~(v > 0.0))} "
-                                 f"{self.UNITS[name]}: must be > 0")
+                                 f"{field_unit(name, self.UNITS[name], self.units)}: must "
+                                 "be > 0")
 
 
 @dataclass(frozen=True, eq=False)

@@ -58,6 +58,19 @@ UNITS = {
 #: ZI in-lb-sec^2, g = 386.088 in/sec^2: a link's mass is W / g) and SI (lengths m,
 #: *masses* in kg in the W fields, forces N, torques N m, ZI kg m^2, g = 9.80665 m/s^2).
 STANDARD_GRAVITY = {"in-lb-sec": 386.088, "SI": 9.80665}
+#: The report's units and their SI counterparts (in SI the W fields hold masses):
+#: sielaff.quantities names every number's unit from it.
+SI = {"in": "m", "lb": "N", "in-lb": "N m", "in-lb-sec^2": "kg m^2", "in/sec": "m/s",
+      "in/sec^2": "m/s^2", "in-lb/sec": "W", "rad/sec": "rad/s", "rad/sec^2": "rad/s^2",
+      "deg": "deg", "-": "-"}
+
+
+def field_unit(name: str, report_unit: str, units: str) -> str:
+    """The unit of the field ``name`` whose report unit is ``report_unit``, in the unit
+    system ``units`` (a W field is a mass in SI: kg)."""
+    if units != "SI":
+        return report_unit
+    return "kg" if name[:1] == "W" and name[1:].isdigit() else SI[report_unit]
 #: What W is divided by to give a mass: g for weights (in-lb-sec), 1 for masses (SI).
 MASS_DIVISOR = {"in-lb-sec": 386.088, "SI": 1.0}
 
@@ -152,10 +165,12 @@ def validate(m: Mechanism) -> None:
         if not np.all(np.isfinite(v)):
             raise ValueError(f"{name} = {_first_bad(v, ~np.isfinite(v))} is not finite")
         if name in LENGTHS and not np.all(v > 0.0):
-            raise ValueError(f"{name} = {_first_bad(v, ~(v > 0.0))} {UNITS[name]}: the link "
+            raise ValueError(f"{name} = {_first_bad(v, ~(v > 0.0))} "
+                             f"{field_unit(name, UNITS[name], m.units)}: the link "
                              "lengths R1-R4 must be positive")
         if name in NONNEGATIVE and not np.all(v >= 0.0):
-            raise ValueError(f"{name} = {_first_bad(v, ~(v >= 0.0))} {UNITS[name]}: weights "
+            raise ValueError(f"{name} = {_first_bad(v, ~(v >= 0.0))} "
+                             f"{field_unit(name, UNITS[name], m.units)}: weights "
                              "and moments of inertia cannot be negative")
 
 

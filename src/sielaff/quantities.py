@@ -13,6 +13,7 @@ in pounds, time in seconds, angles printed in degrees, rates in radians.
 from __future__ import annotations
 
 from sielaff.inverted_slider_crank import InvertedSliderCrank
+from sielaff.mechanism import SI as MECHANISM_SI
 from sielaff.mechanism import UNITS as FOURBAR_UNITS
 from sielaff.sixbar import WattII
 from sielaff.slider_crank import UNITS as SLIDER_UNITS
@@ -122,10 +123,8 @@ def _vector(name: str) -> tuple[str, str] | None:
     return None
 
 
-#: The report's units and their SI counterparts (in SI the W fields hold masses).
-SI = {"in": "m", "lb": "N", "in-lb": "N m", "in-lb-sec^2": "kg m^2", "in/sec": "m/s",
-      "in/sec^2": "m/s^2", "in-lb/sec": "W", "rad/sec": "rad/s", "rad/sec^2": "rad/s^2",
-      "deg": "deg", "-": "-"}
+#: The report's units and their SI counterparts (mechanism.SI, the one table).
+SI = MECHANISM_SI
 
 
 def unit(name: str, units: str = "in-lb-sec") -> str:

@@ -31,7 +31,7 @@ from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 from sielaff.linkage import RRP, Crank, Guide, Topology
-from sielaff.mechanism import STANDARD_GRAVITY
+from sielaff.mechanism import STANDARD_GRAVITY, field_unit
 
 __all__ = ["FIELD_NAMES", "KIND", "SLIDER_EXAMPLE", "SPEC_NAMES", "TOPOLOGY", "UNITS",
            "SliderCrank", "Stroke", "full_turn_failure", "stroke", "validate_slider"]
@@ -151,11 +151,13 @@ def validate_slider(m: SliderCrank) -> None:
             raise ValueError(f"SliderCrank.{name} = {_first(v, ~np.isfinite(v))} is not "
                              "finite")
         if name in _LENGTHS and not np.all(v > 0.0):
-            raise ValueError(f"SliderCrank.{name} = {_first(v, ~(v > 0.0))} {UNITS[name]}: "
-                             "the crank and the rod must have a length > 0")
+            raise ValueError(f"SliderCrank.{name} = {_first(v, ~(v > 0.0))} "
+                             f"{field_unit(name, UNITS[name], m.units)}: the crank and the "
+                             "rod must have a length > 0")
         if name in _NONNEGATIVE and not np.all(v >= 0.0):
-            raise ValueError(f"SliderCrank.{name} = {_first(v, ~(v >= 0.0))} {UNITS[name]}: "
-                             "weights and moments of inertia cannot be negative")
+            raise ValueError(f"SliderCrank.{name} = {_first(v, ~(v >= 0.0))} "
+                             f"{field_unit(name, UNITS[name], m.units)}: weights and moments "
+                             "of inertia cannot be negative")
         values[name] = v
     R2, R3, e = values["R2"], values["R3"], values["offset"]
     never = np.broadcast_to(np.abs(e) > R2 + R3, np.broadcast_shapes(e.shape, R2.shape,

@@ -74,7 +74,7 @@ from decimal import Decimal
 from typing import Any
 
 from sielaff.emulator.cards import Deck, Range, read_field_decimal
-from sielaff.mechanism import FIELD_NAMES, Mechanism, crank_rocker_failure
+from sielaff.mechanism import FIELD_NAMES, STANDARD_GRAVITY, Mechanism, crank_rocker_failure
 from sielaff.tools.errors import EXIT_NOT_CRANK_ROCKER
 from sielaff.tools.spec_fields import (
     CARDS,
@@ -259,7 +259,10 @@ def _other_deck(spec: dict, path: str, kind: str) -> Deck:
     values, ranges, _ = spec_values(spec, path, names)
     model = model_named(kind)
     assert model.mechanism is not None and model.validate is not None
-    mechanism = model.mechanism(**{n: float(v) + 0.0 for n, v in values.items()})
+    scene = spec.get("scene")
+    units = scene.get("units") if isinstance(scene, dict) else None  # its messages' units
+    mechanism = model.mechanism(**{n: float(v) + 0.0 for n, v in values.items()},
+                                units=units if units in STANDARD_GRAVITY else "in-lb-sec")
     try:
         model.validate(mechanism)
     except ValueError as exc:
