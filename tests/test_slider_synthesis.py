@@ -157,13 +157,13 @@ def test_the_best_has_the_largest_least_transmission_angle(Q):
 def test_the_search_without_scipy_is_a_golden_section(monkeypatch):
     pytest.importorskip("scipy")
     calls = []
-    golden = synth._golden
+    golden = synth.golden  # engine.assembly's golden section, as the module uses it
 
     def spy(*args):
         calls.append(args)
         return golden(*args)
 
-    monkeypatch.setattr(synth, "_golden", spy)
+    monkeypatch.setattr(synth, "golden", spy)
     with_scipy = offset_slider_crank(3.0, 1.7).best
     assert not calls
     monkeypatch.setitem(sys.modules, "scipy.optimize", None)  # import fails

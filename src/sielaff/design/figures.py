@@ -111,6 +111,20 @@ def _columns(mechanism: Any) -> tuple[dict[str, np.ndarray], tuple[int, ...]]:
     return {k: np.broadcast_to(v, d) for k, v in fields.items()}, d
 
 
+def _torque_figures(out: dict[str, np.ndarray], ok: np.ndarray, torq: np.ndarray,
+                    th2d: np.ndarray, cf: float) -> None:
+    """TORQ_PEAK, TORQ_RMS [in-lb or N m] and FLYWHEEL_I [in-lb-sec^2 or kg m^2] of the
+    designs ``ok`` from their TORQ over a revolution (designs x angles), into ``out``."""
+    out["TORQ_PEAK"][ok] = np.max(np.abs(torq), axis=1)
+    out["TORQ_RMS"][ok] = np.sqrt(np.mean(torq * torq, axis=1))
+    finite = np.all(np.isfinite(torq), axis=1)
+    if finite.any():
+        fw = flywheel_from_torque(torq[finite], th2d[ok][finite], cf)
+        inertia = np.full(int(ok.sum()), np.nan)
+        inertia[finite] = fw.inertia
+        out["FLYWHEEL_I"][ok] = inertia
+
+
 def _kind_figures(mechanism: Any, n: int, cf: float, scene: Any,
                   keywords: dict[str, Any]) -> dict[str, np.ndarray]:
     """:func:`figures` of a kind other than the four-bar (:func:`figure_table`)."""
@@ -128,15 +142,7 @@ def _kind_figures(mechanism: Any, n: int, cf: float, scene: Any,
     th = np.arange(n) * (360.0 / n)
     with np.errstate(all="ignore"):
         r = analyze(sub, th, ["TORQ", "SHAK", "SHAKM"] + loads + guides + angles, scene=sc)
-    torq = r["TORQ"]
-    out["TORQ_PEAK"][ok] = np.max(np.abs(torq), axis=1)
-    out["TORQ_RMS"][ok] = np.sqrt(np.mean(torq * torq, axis=1))
-    finite = np.all(np.isfinite(torq), axis=1)
-    if finite.any():
-        fw = flywheel_from_torque(torq[finite], fields["TH2D"][ok][finite], cf)
-        inertia = np.full(int(ok.sum()), np.nan)
-        inertia[finite] = fw.inertia
-        out["FLYWHEEL_I"][ok] = inertia
+    _torque_figures(out, ok, r["TORQ"], fields["TH2D"], cf)
     for name in loads + ["SHAK"]:
         out[name + "_PEAK"][ok] = np.max(r[name], axis=1)
     for name in guides + ["SHAKM"]:
@@ -173,12 +179,7 @@ def figures(mechanism: Any, n: int = 360, cf: float = 0.05, *,
     if not isinstance(mechanism, Mechanism):
         return _kind_figures(mechanism, n, cf, scene, keywords)
     sc = scene_from(scene, keywords, "figures")
-    fields = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in
-              mechanism.as_dict().items()}
-    d = np.broadcast_shapes(*(v.shape for v in fields.values()))
-    if len(d) != 1:
-        raise ValueError("figures: the mechanism's fields must be 1-D over designs")
-    fields = {k: np.broadcast_to(v, d) for k, v in fields.items()}
+    fields, d = _columns(mechanism)
     m = mechanism.replace(**fields)
     cls = linkage_class(m)
     kind = np.array([KINDS.index(k) for k in cls.kind], dtype=float)
@@ -193,15 +194,7 @@ def figures(mechanism: Any, n: int = 360, cf: float = 0.05, *,
     th = np.arange(n) * (360.0 / n)
     with np.errstate(all="ignore"):
         r = analyze(sub, th, _NEED, scene=sc)
-    torq = r["TORQ"]
-    out["TORQ_PEAK"][ok] = np.max(np.abs(torq), axis=1)
-    out["TORQ_RMS"][ok] = np.sqrt(np.mean(torq * torq, axis=1))
-    finite = np.all(np.isfinite(torq), axis=1)
-    if finite.any():
-        fw = flywheel_from_torque(torq[finite], fields["TH2D"][ok][finite], cf)
-        inertia = np.full(int(ok.sum()), np.nan)
-        inertia[finite] = fw.inertia
-        out["FLYWHEEL_I"][ok] = inertia
+    _torque_figures(out, ok, r["TORQ"], fields["TH2D"], cf)
     for name in ("FOA", "FA32", "FB34", "FOB", "SHAK"):
         out[name + "_PEAK"][ok] = np.max(r[name], axis=1)
     out["SHAKM_PEAK"][ok] = np.max(np.abs(r["SHAKM"]), axis=1)

@@ -12,6 +12,7 @@ that touches its toggle between two grid angles is found there).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -19,7 +20,7 @@ import numpy as np
 from sielaff.engine import dyads
 from sielaff.linkage import RPR, RRR, Topology
 
-__all__ = ["GRID", "arcs", "assembly_failure", "dyad_name", "margins", "never_assembles"]
+__all__ = ["GRID", "arcs", "assembly_failure", "dyad_name", "golden", "margins", "never_assembles"]
 
 #: Crank angles per revolution the checks sample.
 GRID = 3600
@@ -117,17 +118,27 @@ def _refine(topology: Topology, values: dict[str, Any], branch: Any, i: int,
             at: float) -> float:
     """The least margin of dyad ``i`` within a grid step of ``at`` (golden section)."""
     step = 360.0 / GRID
-    a, b = at - step, at + step
-    g = (math.sqrt(5.0) - 1.0) / 2.0
 
     def f(x: float) -> float:
         v = float(margins(topology, values, [x], branch)[i][0])
         return v if math.isfinite(v) else -1.0
 
+    return min(golden(f, at - step, at + step, most=60)[1], f(at))
+
+
+def golden(f: Callable[[float], float], lo: float, hi: float, tol: float = 0.0,
+           most: int = 500) -> tuple[float, float]:
+    """(x, f(x)): the least ``f`` found on (lo, hi) by golden-section search, the ends
+    never evaluated, until the bracket is ``tol`` wide or after ``most`` steps (``f``
+    has one minimum there; each step narrows the bracket by 0.618)."""
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = lo, hi
     c, d = b - g * (b - a), a + g * (b - a)
     fc, fd = f(c), f(d)
-    for _ in range(60):
-        if fc < fd:
+    for _ in range(most):
+        if b - a <= tol:
+            break
+        if fc <= fd:
             b, d, fd = d, c, fc
             c = b - g * (b - a)
             fc = f(c)
@@ -135,4 +146,4 @@ def _refine(topology: Topology, values: dict[str, Any], branch: Any, i: int,
             a, c, fc = c, d, fd
             d = a + g * (b - a)
             fd = f(d)
-    return min(fc, fd, f(at))
+    return (c, fc) if fc <= fd else (d, fd)

@@ -75,6 +75,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from sielaff.engine.assembly import golden
 from sielaff.inverted_slider_crank import InvertedSliderCrank
 from sielaff.mechanism import MASS_DIVISOR, STANDARD_GRAVITY
 from sielaff.slider_crank import SliderCrank, validate_slider
@@ -400,25 +401,7 @@ def _bounded_min(f: Callable[[float], float], lo: float, hi: float) -> float:
     try:
         from scipy.optimize import minimize_scalar
     except ImportError:
-        return _golden(f, lo, hi, tol)
+        return golden(f, lo, hi, tol)[0]
     res = minimize_scalar(f, bounds=(lo, hi), method="bounded",
                           options={"xatol": tol, "maxiter": 500})
     return float(res.x)
-
-
-def _golden(f: Callable[[float], float], lo: float, hi: float, tol: float) -> float:
-    """Golden-section search for the least ``f`` on [lo, hi] (the ends never evaluated)."""
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    a, b = lo, hi
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
-    while b - a > tol:
-        if fc <= fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = f(d)
-    return c if fc <= fd else d
