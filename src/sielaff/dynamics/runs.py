@@ -64,7 +64,8 @@ def _transient(accel, solve_ivp, th0, w0, revs, per_rev, method, rtol, atol, t_m
                           f"{t_stop:.6g} s and {made:.4g} revolutions; the motor cannot "
                           "carry the linkage over it (it would turn back)")
     elif len(sol.t_events[1]):
-        result.message = (f"{revs:g} revolutions in {t_stop:.6g} s; the crank speed ended "
+        result.message = (f"{revs:g} revolution{'' if revs == 1 else 's'} in {t_stop:.6g} s; "
+                          "the crank speed ended "
                           f"at {float(sol.y[1, -1]):.6g} rad/sec")
     else:
         result.finished = False

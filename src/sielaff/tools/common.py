@@ -268,12 +268,13 @@ def stdout_output(output: str | None) -> bool:
     return output == "-"
 
 
-def refuse_stdout(output: str | None, what: str) -> None:
-    """Refuse ``-o -`` for a command whose output is ``what`` (several files), one line,
-    the usage status."""
+def refuse_stdout(output: str | None, what: str, option: str = "-o",
+                  instead: str = "a folder") -> None:
+    """Refuse ``-`` for ``option`` (``-o`` by default) whose output is ``what`` (several
+    files, or an image), one line naming what to give ``instead``, the usage status."""
     if output == "-":
-        raise CommandError(f"sielaff: -o -: {what}, which standard output cannot hold: "
-                           "name a folder")
+        raise CommandError(f"sielaff: {option} -: {what}, which standard output cannot "
+                           f"hold: name {instead}")
 
 
 def refuse_overwriting_inputs(output: str | None, inputs: Iterable[str]) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import sys
 from decimal import Decimal
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 
@@ -118,14 +119,14 @@ def other_kind(deck: Deck, scene: Scene, outputs=None, any_kind: bool = False,
     return deck
 
 
-def model_of(mechanism):
+def model_of(mechanism: Any) -> Any:
     """The engine's model of ``mechanism`` (its outputs, topology and full-turn test)."""
     from sielaff.engine import model_for
 
     return model_for(mechanism)
 
 
-def full_turn_failure(mechanism, branch="open") -> str | None:
+def full_turn_failure(mechanism: Any, branch: Any = "open") -> str | None:
     """Why the crank of ``mechanism`` (another kind) cannot make a whole revolution on
     ``branch`` (one for every dyad, or one per dyad), or None; a branch on which some dyad
     closes nowhere is a CommandError (exit 2) naming it."""
@@ -145,7 +146,7 @@ def full_turn_failure(mechanism, branch="open") -> str | None:
     return failure and f"on {words}: {failure}"
 
 
-def turns_whole(mechanism, branch="open") -> bool:
+def turns_whole(mechanism: Any, branch: Any = "open") -> bool:
     """Whether the commands work ``mechanism`` over whole revolutions: a crank-rocker, or
     another kind's linkage whose crank turns fully on ``branch`` (:func:`full_turn_failure`).
     Every other is worked only where it assembles."""

@@ -149,7 +149,7 @@ def cmd_simulate(args) -> int:
         args.output = None  # -o -: the time history on stdout, the status on stderr
     for target in (args.output, args.plot):
         refuse_bad_output(target, [path])
-    refuse_stdout(args.plot, "--plot writes a PNG file")
+    refuse_stdout(args.plot, "--plot writes a PNG file", "--plot", "a file")
     try:
         import scipy.integrate  # noqa: F401
         import scipy.optimize  # noqa: F401

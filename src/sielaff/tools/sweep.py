@@ -151,7 +151,7 @@ def cmd_sweep(args) -> int:
         args.output = None  # -o -: the table on stdout, the status on stderr
     for target in (args.output, args.plot):
         refuse_bad_output(target, [path])
-    refuse_stdout(args.plot, "--plot writes a PNG file")
+    refuse_stdout(args.plot, "--plot writes a PNG file", "--plot", "a file")
     check_targets([p for p in (args.output, args.plot) if p])  # before any work
     if getattr(args, "pareto", None) and not args.plot:
         raise CommandError("sielaff: --pareto chooses the Pareto plot's figures: add --plot "

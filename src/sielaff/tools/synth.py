@@ -313,7 +313,8 @@ def cmd_synth(args) -> int:
     if args.output == "-":
         args.output = None  # -o -: the ranked table on stdout, the status on stderr
     refuse_bad_output(args.output, [path])
-    refuse_stdout(args.write_best, "--write-best writes several files into a folder")
+    refuse_stdout(args.write_best, "--write-best writes several files into a folder",
+                  "--write-best")
     if args.write_best and os.path.exists(args.write_best) and \
             not os.path.isdir(args.write_best):
         raise CommandError(f"sielaff: --write-best {args.write_best} is a file: name a folder")
