@@ -454,6 +454,8 @@ def test_another_branch_leaves_no_warning_per_position(tmp_path):
     status, out, err = cli("report", str(path), "--branch", "crossed", "-o",
                            str(tmp_path / "r.html"))
     assert (status, err) == (0, "")
+    text = _page_text(tmp_path / "r.html")  # worked over its arcs on that branch
+    assert "The crank cannot turn a whole revolution" in text and "nan" not in text
     sweep = spec_with(tmp_path, "stephenson", extra="\n[sweep]\nangles = 36\n\n[sweep.vary]\n"
                                                     "R5 = [11.0, 12.0]\n")
     status, out, err = cli("sweep", str(sweep), "--branch", "crossed", "-o",

@@ -293,7 +293,7 @@ def plot_data(deck: Deck, only: str | None = None, scene: Scene | None = None
     ath2, v = _evaluate(deck, ["TORQ"], scene)
     from sielaff.tools.kinds import turns_whole
 
-    if _turns_fully(deck.mechanism) if four_bar else turns_whole(deck.mechanism):
+    if _turns_fully(deck.mechanism) if four_bar else turns_whole(deck.mechanism, scene.branch):
         work, abs_work = cycle_work(deck.mechanism, scene=scene)
         work_notes = [f"cycle work \u222e TORQ d\u03b8\u2082 = "
                       f"{work_text(work, abs_work, system)}\n(\u222e |TORQ| d\u03b8\u2082 = "

@@ -52,7 +52,7 @@ def kind_report_html(deck: Deck, scene: Scene, command: str, at: float | None = 
     from sielaff.tools.plot import plot_data, render_png
 
     m = deck.mechanism
-    whole = turns_whole(m)
+    whole = turns_whole(m, scene.branch)
     effects = describe_scene(scene, m.units) or "no effect but the constant crank speed " \
         "(no gravity, no loads, the open branch)"
     parts = head(os.path.basename(deck.path)) + [
