@@ -246,15 +246,22 @@ def _points_of(topology: Topology, pos: Positions, rates: Motion, k: int, base: 
     rates.v[f"G{k}"] = fn(k, base, f"G{k}")
 
 
+def _frame_still(topology: Topology, names: Any, crank: Any) -> Motion:
+    """A Motion with the frame (link 1) and its points (O2, the pivots among ``names``)
+    at rest and the crank's rate ``crank``: the start of velocities and accelerations."""
+    m = Motion()
+    m.w[1] = 0.0
+    for name in names:
+        if name == "O2" or any(p.name == name for p in topology.pivots):
+            m.v[name] = (0.0, 0.0)
+    m.w[2] = crank
+    return m
+
+
 def velocities(topology: Topology, pos: Positions, w2: Any) -> Motion:
     """Each link's angular velocity, each point's velocity, each slide's rate, for the
     crank's angular velocity ``w2`` [rad/sec]."""
-    m = Motion()
-    m.w[1] = 0.0
-    for name in pos.pt:
-        if name == "O2" or any(p.name == name for p in topology.pivots):
-            m.v[name] = (0.0, 0.0)
-    m.w[2] = w2
+    m = _frame_still(topology, pos.pt, w2)
 
     def on(k: int, base: str, name: str) -> Vec:
         return _point_rate(m.w[k], m.v[base], pos.pt[base], pos.pt[name])
@@ -308,12 +315,7 @@ def _guide_point_rate(topology: Topology, pos: Positions, m: Motion, g: int, p: 
 def accelerations(topology: Topology, pos: Positions, vel: Motion, a2: Any) -> Motion:
     """Each link's angular acceleration, each point's acceleration, each slide's second
     derivative, for the crank's angular acceleration ``a2`` [rad/sec^2]."""
-    m = Motion()
-    m.w[1] = 0.0
-    for name in vel.v:
-        if name == "O2" or any(p.name == name for p in topology.pivots):
-            m.v[name] = (0.0, 0.0)
-    m.w[2] = a2
+    m = _frame_still(topology, vel.v, a2)
 
     def on(k: int, base: str, name: str) -> Vec:
         return _point_acc(m.w[k], vel.w[k], m.v[base], pos.pt[base], pos.pt[name])

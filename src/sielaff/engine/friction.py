@@ -113,29 +113,34 @@ class PinFriction:
             raise ValueError(f"PinFriction.max_iter = {self.max_iter!r}: an integer, 1 to 10000")
 
 
-def check_friction(v: Any) -> Any:
-    """``Scene.friction`` checked: None, a PinFriction, or a mapping pin -> PinFriction
-    (returned as a plain dict in the order of :data:`PINS`)."""
+def check_friction(v: Any, keys: tuple[str, ...] = PINS, noun: str = "pin") -> Any:
+    """``Scene.friction`` checked: None, a PinFriction, or a mapping joint -> PinFriction
+    (returned as a plain dict in the order of ``keys``: the four-bar's :data:`PINS`, or a
+    linkage's pins and slides, ``noun`` "joint")."""
     if v is None or isinstance(v, PinFriction):
         return v
     if not isinstance(v, Mapping):
+        names = "pin names " if noun == "pin" else ""
         raise ValueError(f"Scene.friction = {v!r}: None, a sielaff.PinFriction or a mapping "
-                         f"of pin names {', '.join(PINS)} to PinFriction")
-    bad = [k for k in v if k not in PINS]
+                         f"of {names}{', '.join(keys)} to PinFriction")
+    bad = [k for k in v if k not in keys]
     if bad:
-        raise ValueError(f"Scene.friction: unknown pin {bad[0]!r} (pins: {', '.join(PINS)})")
+        raise ValueError(f"Scene.friction: unknown {noun} {bad[0]!r} ({noun}s: "
+                         f"{', '.join(keys)})")
     for k, f in v.items():
         if not isinstance(f, PinFriction):
             raise ValueError(f"Scene.friction[{k!r}] = {f!r} is not a sielaff.PinFriction")
-    return {k: v[k] for k in PINS if k in v}
+    return {k: v[k] for k in keys if k in v}
 
 
-def _per_pin(friction: Any) -> dict[str, PinFriction | None]:
+def per_joint(friction: Any, keys: tuple[str, ...] = PINS) -> dict[str, PinFriction | None]:
+    """Each joint of ``keys`` and its PinFriction (None: none there), from a checked
+    ``Scene.friction``."""
     if friction is None:
-        return dict.fromkeys(PINS)
+        return dict.fromkeys(keys)
     if isinstance(friction, PinFriction):
-        return dict.fromkeys(PINS, friction)
-    return {k: friction.get(k) for k in PINS}
+        return dict.fromkeys(keys, friction)
+    return {k: friction.get(k) for k in keys}
 
 
 def _signs(TH2D, TH3D, TH4D):
@@ -294,11 +299,11 @@ def _where_not_contracting(mur, finite, f0_f, sg, geo, count_all=False):
 def mu_r(scene: Any) -> dict[str, float]:
     """Each pin's mu r [in or m] in ``scene`` (0 where it has none): what the effect
     seeds, and what the dynamics' friction tables take."""
-    return {k: 0.0 if f is None else f.mu * f.radius for k, f in _per_pin(scene.friction).items()}
+    return {k: 0.0 if f is None else f.mu * f.radius for k, f in per_joint(scene.friction).items()}
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
-    per = _per_pin(scene.friction)
+    per = per_joint(scene.friction)
     ns: dict[str, Any] = {f"MUR_{k}": v for k, v in mu_r(scene).items()}
     given = [f for f in per.values() if f is not None]
     ns["friction_tol"] = min((f.tol for f in given), default=1e-13)
@@ -313,7 +318,7 @@ def has_friction(scene: Any) -> bool:
 
 def _describe(scene: Any, units: str) -> list[Fact]:
     facts = []
-    for pin, f in _per_pin(scene.friction).items():
+    for pin, f in per_joint(scene.friction).items():
         if f is None:
             facts.append(Fact(pin, "friction", "none"))
             continue

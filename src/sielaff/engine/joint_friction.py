@@ -30,7 +30,6 @@ and ``FRICTION_STATUS``.  With every mu = 0 no step here runs.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -42,8 +41,10 @@ from sielaff.engine.friction import (
     MEANINGS,
     FrictionWarning,
     PinFriction,
+    check_friction,
     loss_meaning,
 )
+from sielaff.engine.friction import per_joint as per_joint_of
 from sielaff.engine.registry import Effect, Step
 from sielaff.linkage import Topology
 
@@ -72,26 +73,10 @@ def effect(topology: Topology, rename: Any) -> Effect:
         f"PLOSS_S{s.label}" for s in slides)
 
     def check(v: Any) -> Any:
-        if v is None or isinstance(v, PinFriction):
-            return v
-        if not isinstance(v, Mapping):
-            raise ValueError(f"Scene.friction = {v!r}: None, a sielaff.PinFriction or a "
-                             f"mapping of {', '.join(keys)} to PinFriction")
-        bad = [k for k in v if k not in keys]
-        if bad:
-            raise ValueError(f"Scene.friction: unknown joint {bad[0]!r} (joints: "
-                             f"{', '.join(keys)})")
-        for k, f in v.items():
-            if not isinstance(f, PinFriction):
-                raise ValueError(f"Scene.friction[{k!r}] = {f!r} is not a sielaff.PinFriction")
-        return {k: v[k] for k in keys if k in v}
+        return check_friction(v, tuple(keys), "joint")
 
     def per_joint(friction: Any) -> dict[str, PinFriction | None]:
-        if friction is None:
-            return dict.fromkeys(keys)
-        if isinstance(friction, PinFriction):
-            return dict.fromkeys(keys, friction)
-        return {k: friction.get(k) for k in keys}
+        return per_joint_of(friction, tuple(keys))
 
     def coefficients(scene: Any) -> dict[str, float]:
         """Each pin's mu r [in or m], each slide's mu [-]."""
