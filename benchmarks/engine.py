@@ -20,9 +20,10 @@ configuration, CPU time and wall time, median and range; one process, one core):
 * **the engine**: all results with fresh arrays, and into reused arrays
   (``analyze(..., out=...)``); kinematics only; positions and rates; the crossed
   branch; the effects (crank acceleration, gravity, two loads).
-* **the compiled backend** (``engine.compiled``, numba; its own section, ``## Compiled
-  backend``): all results into reused and fresh arrays, kinematics, the effects, and two
-  threads; and its largest difference from the numpy engine over the run.
+* **the compiled backend** (``analyze(..., backend="numba")``; its own section, ``##
+  Compiled backend``): all results into reused and fresh arrays, kinematics, the effects
+  (springs and dampers too), two threads, the floors (the arrays' fill and allocation),
+  the numpy engine beside it; and its largest difference from the numpy engine.
 
 As a check that the compiled program and the engine computed the same
 thing, the engine's sum of the printed quantities is compared with the
@@ -282,64 +283,63 @@ COMPILED_HEADING = "## Compiled backend"
 
 
 def compiled_section(args, m, ath2, gfortran) -> int:
-    """The compiled backend (``engine.compiled``, numba) beside gfortran: its section of
-    docs/performance.md."""
+    """The compiled backend (``analyze(..., backend="numba")``) beside gfortran: its
+    section of docs/performance.md."""
     from sielaff.engine import compiled
-    from sielaff.mechanism import MASS_DIVISOR
+    from sielaff.engine.analysis import prepare
+    from sielaff.engine.scene import Scene
 
     if not compiled.available():
         print("numba is not installed: no compiled section", file=sys.stderr)
         return 1
     n = ath2.size
-    p = dict(m.as_dict())
-    p["GW"] = MASS_DIVISOR[m.units]
     results, kin = engine.RESULTS, engine.KINEMATIC_OUTPUTS
-    directions = tuple(k for k in results if k[:1] == "D" and k[1:] in engine.VECTORS)
-    turned = [k for k in directions if k[1:] in compiled._ROTATING
-              or k in compiled._ACC2_SHORTCUT]  # a link's angle and a constant
-    shared = [k for k in directions if k in compiled._ACC4_SHORTCUT]  # ATH4, one atan2
-    parts = ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_TEX")
+    parts = ("TORQ_INERTIA", "TORQ_GRAVITY", "TORQ_LOADS", "TORQ_ELEMENTS")
     outs = {name: np.empty(n) for name in results + parts}
-    loads = ((3, 8.0, 10.0, 80.0, 0.0, 0.0), (4, 0.0, 0.0, 0.0, 0.0, 15.0))
-    scene = dict(th2dd=-40.0, gx=0.0, gy=-386.088, loads=loads)
+    effects = Scene(th2dd=-40.0, gravity="down",
+                    loads=[engine.Load(3, r=8.0, angle=10.0, fx=80.0),
+                           engine.Load(4, torque=15.0)],
+                    elements=[engine.Spring((1, 6.0, 90.0), (4, 8.0, 0.0), 30.0, 5.0),
+                              engine.Damper((2, 2.0, 0.0), (4, 6.0, 10.0), 0.5)])
 
-    def run(wanted, out=True, threads=1, **kw):
-        o = {k: outs[k] for k in wanted} if out else None
-        return lambda: compiled.compiled_analyze(p, ath2, wanted=wanted, out=o,
-                                                 threads=threads, **kw)
+    def numba(wanted, out=True, scene=None):
+        if out:
+            o = {k: outs[k] for k in wanted}
+            return lambda: engine.analyze(m, ath2, out=o, scene=scene, backend="numba")
+        return lambda: engine.analyze(m, ath2, list(wanted), scene=scene, backend="numba")
 
-    def plain_stores():
-        """The kernel with its outputs written by plain stores (no streaming)."""
-        stream = compiled.STREAM_BYTES
-        compiled.STREAM_BYTES = 1 << 62
-        try:
-            run(results)()
-        finally:
-            compiled.STREAM_BYTES = stream
+    two = prepare(m, ath2, list(results), Scene())
+
+    def fresh_arrays():
+        """What the fresh results cost without a kernel: 71 arrays made and written once."""
+        for _ in results:
+            np.empty(n).fill(0.0)
 
     configs = [
-        (f"compiled, all {len(results)} results into reused arrays, one thread",
-         run(results)),
-        (f"compiled, all {len(results)} results, fresh arrays, one thread",
-         run(results, out=False)),
-        (f"compiled, kinematics only ({len(kin)} arrays), reused arrays, one thread",
-         run(kin)),
-        ("compiled, all results + TORQ parts, crank acceleration, gravity, two loads, "
-         "reused arrays, one thread", run(results + parts, **scene)),
-        (f"compiled, all {len(results)} results into reused arrays, two threads",
-         run(results, threads=2)),
-        (f"`analyze(..., backend='numba', out=...)`, all {len(results)} results, one thread",
-         lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results},
-                                backend="numba")),
-        (f"compiled, the {len(results) - len(directions)} results but the "
-         f"{len(directions)} directions, reused arrays, one thread",
-         run(tuple(k for k in results if k not in directions))),
+        (f"`backend='numba'`, all {len(results)} results into reused arrays (`out=`)",
+         numba(results)),
+        (f"`backend='numba'`, all {len(results)} results, fresh arrays", numba(results, False)),
+        (f"`backend='numba'`, kinematics ({len(kin)} results), fresh arrays",
+         numba(kin, False)),
+        (f"`backend='numba'`, kinematics ({len(kin)} results), `out=`", numba(kin)),
+        ("`backend='numba'`, all results + TORQ parts, crank acceleration, gravity, two "
+         "loads, a spring and a damper, `out=`", numba(results + parts, scene=effects)),
+        ("the same, fresh arrays", numba(results + parts, False, scene=effects)),
+        (f"`backend='numba'`, all {len(results)} results, `out=`, two threads",
+         lambda: compiled.run(two, {k: outs[k] for k in results}, threads=2)),
         (f"no kernel: numpy fills the {len(results)} reused arrays (the memory traffic "
-         "alone, plain stores)", lambda: [outs[k].fill(0.0) for k in results]),
-        (f"compiled, all {len(results)} results into reused arrays, one thread, plain "
-         "stores (no streaming)", plain_stores),
+         "alone)", lambda: [outs[k].fill(0.0) for k in results]),
+        (f"no kernel: {len(results)} fresh arrays made and written once (the allocation)",
+         fresh_arrays),
+        (f"the numpy engine, all {len(results)} results, fresh arrays",
+         lambda: engine.analyze(m, ath2)),
+        ("the numpy engine, all results, `out=`",
+         lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results})),
+        ("the numpy engine, the same effects, `out=`",
+         lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results + parts},
+                                scene=effects)),
     ]
-    for _, fn in configs:  # compile (or load numba's cache) outside the timing
+    for _, fn in configs:  # compile (or load the kernel cache) outside the timing
         fn()
     series, loads = [], []
     for name, fn in configs:
@@ -348,63 +348,62 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         series.append(rounds(name, fn, gfortran, args.rounds))
         loads += [before, os.getloadavg()[0]]
     # the error against the numpy engine over this run, relative to each output's scale
-    got, bad = compiled.compiled_analyze(p, ath2, wanted=results)
+    got = engine.analyze(m, ath2, backend="numba")
     ref = engine.analyze(m, ath2)
     worst = 0.0
     for name in results:
         a, b = got[name], ref[name]
         ok = np.isfinite(b)
         d = np.abs(a[ok] - b[ok])
-        if name.startswith("D") or name in ("ATH2", "ATH3", "ATH4"):
+        if (name[:1] == "D" and name[1:] in engine.VECTORS) or name in ("ATH2", "ATH3", "ATH4"):
             d = np.abs((a[ok] - b[ok] + 180.0) % 360.0 - 180.0)
         worst = max(worst, float(np.max(d)) / max(float(np.max(np.abs(b[ok]))), 1e-300))
     same_nan = all(np.array_equal(np.isnan(got[k]), np.isnan(ref[k])) for k in results)
     med = [statistics.median(x.ratio("cpu")) for x in series]
     wall = [statistics.median(x.ratio("wall")) for x in series]
     cpu = [statistics.median(x.cpu) for x in series]
-    import numba
+    try:
+        engine.analyze(m, ath2[:10], ["TORQ"], backend="numba",
+                       scene=Scene(friction=engine.PinFriction(0.1, 0.2)))
+        friction = "compiled"
+    except ValueError as e:
+        friction = f"refused: \"{e}\""
+    import numba as nb
+
+    def goal(x: float, g: float) -> str:
+        return f"goal >= {g:g}x: {'met' if x >= g else 'not met'}"
 
     lines = [
         COMPILED_HEADING, "",
         f"Measured by `python benchmarks/engine.py --section compiled` on {machine()}; "
-        f"numba {numba.__version__}.", "",
-        f"`engine.compiled.compiled_analyze` on the report's example at {n:,} crank angles "
-        "(the deck of the Engine section), the same gfortran -O2 reference run beside each "
+        f"numba {nb.__version__}.", "",
+        f"`analyze(..., backend='numba')` on the report's example at {n:,} crank angles "
+        "(the deck of the Engine section): the kernel generated from the four-bar model's "
+        "own plan (engine/kernel.py).  The same gfortran -O2 reference runs beside each "
         f"configuration in each of {args.rounds} rounds; median (range).  The ratio is "
-        "taken in CPU time (the machine is shared with other jobs, whose load moves wall "
-        "time more than CPU time); wall time beside it.  The kernel is compiled (or loaded "
-        "from its cache) before the timing.  Load average (1 min) over the section: "
-        f"{min(loads):.1f} to {max(loads):.1f} on this machine's {os.cpu_count()} cores "
-        f"(at the start {loads[0]:.1f}, at the end {loads[-1]:.1f}).", "",
+        "taken in CPU time; wall time beside it.  Every kernel is compiled (or loaded from "
+        "the kernel cache) before the timing.  Load average (1 min) over the section: "
+        f"{min(loads):.1f} to {max(loads):.1f} on this machine's {os.cpu_count()} cores.", "",
         *table(series), "",
-        f"* All results, one core, reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
-        f"(goal >= 3x: {'met' if med[0] >= 3 else 'not met'}); the same through "
-        f"`analyze(..., backend='numba', out=...)` {med[5]:.2f}x; fresh arrays {med[1]:.2f}x "
-        f"({med[0] / med[1]:.1f} times slower: the fresh arrays' pages).",
-        f"* Kinematics only: **{med[2]:.2f}x gfortran** (goal >= 5x: "
-        f"{'met' if med[2] >= 5 else 'not met'}).",
-        f"* What bounds it (CPU medians of the rows above): numpy's fill of the "
-        f"{len(results)} arrays (plain stores, each cache line read before it is written) "
-        f"takes {cpu[7]:.3f} s ({cpu[7] / cpu[0]:.0%} of the kernel's {cpu[0]:.3f} s); the "
-        f"kernel writes outputs this large by streaming stores, and with plain stores it "
-        f"takes {cpu[8]:.3f} s ({med[8]:.2f}x gfortran); leaving out the "
-        f"{len(directions)} directions ({len(directions) - len(turned) - len(shared)} "
-        f"by an atan2 each, {len(turned)} from a link's angle and a constant, "
-        f"{len(shared)} from ATH4 and one atan2 for the {len(shared)}) saves "
-        f"{cpu[0] - cpu[6]:.3f} s "
-        f"({(cpu[0] - cpu[6]) / cpu[0]:.0%}); gfortran beside them took "
-        f"{statistics.median(series[0].ref_cpu):.3f} s, so 3x gfortran is "
-        f"{statistics.median(series[0].ref_cpu) / 3:.3f} s.",
-        f"* Crank acceleration, gravity and two loads (75 outputs): {med[3]:.2f}x gfortran, "
-        f"{med[3] / med[0]:.2f}x the 1966 scene's throughput.",
-        f"* Two threads (the kernel releases the GIL; the positions split in two): "
-        f"{wall[4]:.2f}x gfortran in wall time against {wall[0]:.2f}x on one thread, a "
-        f"scaling of {wall[4] / wall[0]:.2f}x on this machine's 2 shared cores (in CPU "
-        f"time {med[4]:.2f}x: the two threads' CPU added).",
+        f"* All results into reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
+        f"({goal(med[0], 6)}); fresh arrays **{med[1]:.2f}x** ({goal(med[1], 3.5)}).  "
+        f"The fresh call costs {cpu[1] - cpu[0]:.3f} s of CPU more than `out=`; making and "
+        f"writing {len(results)} fresh arrays once costs {cpu[8]:.3f} s here.",
+        f"* Kinematics, fresh arrays: **{med[2]:.2f}x gfortran** ({goal(med[2], 8)}); "
+        f"`out=` {med[3]:.2f}x.",
+        f"* Crank acceleration, gravity, two loads, a spring and a damper: **{med[4]:.2f}x "
+        f"gfortran** with `out=` ({goal(med[4], 3)}), {med[5]:.2f}x with fresh arrays; "
+        f"the numpy engine on the same scene {med[11]:.2f}x.  Pin friction: {friction}",
+        f"* The floor: numpy's fill of the {len(results)} reused arrays alone is "
+        f"{med[7]:.2f}x gfortran ({cpu[7]:.3f} s against the kernel's {cpu[0]:.3f} s).",
+        f"* Two threads (the kernel releases the GIL): {wall[6]:.2f}x gfortran in wall time "
+        f"against {wall[0]:.2f}x on one thread ({med[6]:.2f}x in CPU time, the threads' "
+        "CPU added).",
+        f"* The numpy engine: fresh arrays {med[9]:.2f}x gfortran ({goal(med[9], 1)}), "
+        f"`out=` {med[10]:.2f}x ({goal(med[10], 1.5)}).",
         f"* Against the numpy engine over these {n:,} positions: the largest difference, "
         f"relative to each output's largest magnitude, {worst:.1e} (the stated bound is "
-        f"{compiled.ERROR_BOUND:.0e}); NaN in the same places: {same_nan}; positions not "
-        f"assembled {bad}.", "",
+        f"{compiled.ERROR_BOUND:.0e}); NaN in the same places: {same_nan}.", "",
     ]
     text = "\n".join(lines)
     print(text)

@@ -1,4 +1,4 @@
-"""The compiled backend's sin, cos and atan2 (engine/compiled.py) against mpmath.
+"""The compiled backend's sin, cos and atan2 (engine/kernel_math.py) against mpmath.
 
 compiled.py states: sin and cos within 1 ulp of the correctly rounded value for
 |x| <= 4 pi (the kernel takes them of angles in [0, 2 pi)), within 2 ulp for |x| < 2^20;
@@ -22,7 +22,7 @@ import pytest
 
 mp = pytest.importorskip("mpmath")
 
-from sielaff.engine import compiled as C  # noqa: E402
+from sielaff.engine import kernel_math as C  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 mp.mp.prec = 130
@@ -73,11 +73,11 @@ def _points(n: int, seed: int) -> np.ndarray:
 def _numba_helpers():
     """_sincos and _atan2 compiled by numba with the kernel's intrinsics."""
     numba = pytest.importorskip("numba")
-    ns = {k: v for k, v in vars(C.kernel_math).items()
+    ns = {k: v for k, v in vars(C).items()
           if k.startswith("_") and isinstance(v, float)}
     ns["math"] = math
     ns["np"] = np
-    (ns["_select"], ns["_floor"], _, _, _, ns["_fma"]) = C._intrinsics()
+    (ns["_select"], ns["_floor"], ns["_fma"]) = C._intrinsics()
     for f in (C._sincos, C._half_turn, C._atan2):
         exec(inspect.getsource(f), ns)  # noqa: S102
         ns[f.__name__] = numba.njit(ns[f.__name__])

@@ -29,12 +29,12 @@ def _crank(ATH2, ADEL2):
 
 @step(provides=("links",), needs=("c2", "s2", "W2", "RG2", "cd2", "sd2"))
 def _links(c2, s2, W2, RG2, cd2, sd2):
-    return {1: FRAME, 2: Link(c2, s2, 0.0, 0.0, W2, RG2, cd2, sd2)}
+    return (FRAME, Link(c2, s2, 0.0, 0.0, W2, RG2, cd2, sd2))
 
 
 @step(provides=("link_rates",), needs=("TH2D",))
 def _rates(TH2D):
-    return {1: FRAME_RATE, 2: LinkRate(TH2D, 0.0, 0.0)}
+    return (FRAME_RATE, LinkRate(TH2D, 0.0, 0.0))
 
 
 @step(provides=("FOAX", "FOAY", "TORQ"), needs=("foax_e", "foay_e", "torq_e"))
@@ -44,7 +44,7 @@ def _totals(foax_e, foay_e, torq_e):
 
 def _statics(loads):
     """The crank alone: the load F2 passes to the frame at O2, the drive holds M2."""
-    fx, fy, m = loads.get(2, (0.0, 0.0, 0.0))
+    (fx, fy, m), = loads  # one (fx, fy, m) per moving link: the crank's
     return fx, fy, -m
 
 
@@ -57,6 +57,7 @@ def _model() -> tuple[Model, type]:
                   sums={"foax": "foax_e", "foay": "foay_e", "torq": "torq_e"},
                   statics=(_statics, ()))
     model.add(step_of(_crank), step_of(_links), step_of(_rates), step_of(_totals))
+    model.link_names = {1: "frame", 2: "crank"}
     for name in ("gravity", "loads", "elements"):  # the four-bar's own modules
         model.add_effect(name)
     return model, scene_type(model)

@@ -74,7 +74,7 @@ def _proxy(module, names, direction: float) -> types.SimpleNamespace:
 
 #: Modules left alone: numba compiles the real ``math`` (a proxy cannot be compiled), and
 #: its answers are held to the numpy engine by a tolerance, not by printed digits.
-UNNUDGED = ("sielaff.engine.compiled", "sielaff.engine.kernel_math", "sielaff.engine.kernel_steps")
+UNNUDGED = ("sielaff.engine.compiled", "sielaff.engine.kernel_math", "sielaff.engine.kernel")
 
 
 def modules() -> list[types.ModuleType]:

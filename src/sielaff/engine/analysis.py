@@ -4,6 +4,7 @@ assemble the same way."""
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -386,50 +387,19 @@ def _analyze_into(mechanism: Mechanism, ath2: Any, out: dict[str, np.ndarray], b
 
 
 def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Results:
-    """``analyze(..., backend="numba")``: one generated kernel for the wanted names,
-    writing straight into ``out``'s arrays (or fresh ones); see engine/compiled.py."""
-    from sielaff.engine.compiled import SUPPORTED, compiled_analyze
-    from sielaff.mechanism import MASS_DIVISOR, STANDARD_GRAVITY
+    """``analyze(..., backend="numba")``: the kernel compiled from the model's own plan for
+    the wanted names, writing straight into ``out``'s arrays (or fresh ones); see
+    engine/compiled.py."""
+    from sielaff.engine.compiled import run
 
-    model, sc = req.model, req.scene
-    if model is not FOURBAR:
-        raise ValueError(f"backend='numba' compiles the four-bar model, not {model.name}")
-    uncompiled = [e.name for e in model.effects_on(sc) if not e.compiled]
-    if uncompiled:  # each effect says whether the kernel models it
-        raise ValueError(f"backend='numba' does not model {', '.join(uncompiled)}: use "
-                         "backend='numpy'")
-    missing = [n for n in req.wanted if n not in SUPPORTED]
-    if missing:
-        raise ValueError(f"backend='numba' does not give {', '.join(missing)}: use "
-                         "backend='numpy'")
-    th = np.asarray(req.ath2, dtype=float)
-    shape = th.shape if out is not None or req.shape is None else req.shape
     if out is not None:
-        _check_out(out, th.shape)
-    n = int(np.prod(shape))
-
-    def flat(v: Any) -> Any:  # a per-position array as the kernel takes it: 1-D, n
-        return v if callable(v) or np.ndim(v) == 0 else np.broadcast_to(
-            np.asarray(v, dtype=float), shape).reshape(-1)
-
-    p = dict(req.mechanism.as_dict())
-    p["GW"] = MASS_DIVISOR[req.mechanism.units]
-    g = sc.gravity
-    gx, gy = ((0.0, 0.0) if g is None else (0.0, -STANDARD_GRAVITY[req.mechanism.units])
-              if isinstance(g, str) else g)
-    loads = tuple((ld.link, *(flat(getattr(ld, k)) for k in ("r", "angle", "fx", "fy",
-                                                              "torque")))
-                  for ld in sc.loads)
-    flat_out = None if out is None else {k: out[k].reshape(-1) for k in req.wanted}
-    got, bad = compiled_analyze(p, np.broadcast_to(th, shape).reshape(-1),
-                                tex=flat(sc.tex), th2dd=flat(sc.th2dd), gx=gx, gy=gy,
-                                loads=loads, branch=1.0 if sc.branch == "open" else -1.0,
-                                wanted=req.wanted, out=flat_out)
+        _check_out(out, np.shape(req.ath2))
+    got, bad, shape = run(req, out)
     result = Results()
     result.units, result.ath2 = req.mechanism.units, req.ath2
     for name in req.wanted:
         result[name] = out[name] if out is not None else got[name].reshape(shape)
     result.not_assembled = bad
     if bad:  # no ASSEMBLED output from this backend to point to
-        _warn_not_assembled(bad, n, stacklevel=4, mask=False)
+        _warn_not_assembled(bad, math.prod(shape), stacklevel=4, mask=False)
     return result

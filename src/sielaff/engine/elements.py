@@ -24,13 +24,13 @@ or N; an element the scene does not have reads 0 (the outputs are declared for
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.links import FOUR_BAR_LINKS, link_words, links_by_name
-from sielaff.engine.registry import Effect, step, step_of
+from sielaff.engine.registry import Effect, Step, step, step_of
 from sielaff.engine.values import check_value
 
 __all__ = ["MAX_ELEMENTS", "Damper", "Spring", "check_elements"]
@@ -128,47 +128,72 @@ def check_elements(v: Any) -> tuple[Spring | Damper, ...]:
     return items
 
 
-def _place(point, links, rates):
-    """(offset from the base pin, position, velocity) of a point, each as (x, y)."""
-    link, r, angle = point
-    if link not in links:
-        raise ValueError(f"a spring's or damper's point on link {link}: this linkage's links "
-                         f"are 1 (the frame) to {max(links)}")
+class ElementValues(NamedTuple):
+    """A spring or a damper as the steps take it: ``spring`` 1.0 (tension k (L - length))
+    or 0.0 (a damper: tension c dL/dt), its points a and b as (link, r, angle)."""
+
+    spring: float
+    a_link: float
+    a_r: float
+    a_angle: float
+    b_link: float
+    b_r: float
+    b_angle: float
+    k: float
+    length: float
+    c: float
+
+
+def _values(e: Spring | Damper) -> ElementValues:
+    spring = isinstance(e, Spring)
+    return ElementValues(1.0 if spring else 0.0, float(e.a[0]), e.a[1], e.a[2], float(e.b[0]),
+                         e.b[1], e.b[2], e.k if spring else 0.0,  # type: ignore[union-attr]
+                         e.length if spring else 0.0,  # type: ignore[union-attr]
+                         0.0 if spring else e.c)  # type: ignore[union-attr]
+
+
+def _place(link, r, angle, links, rates):
+    """(offset from the base pin, position, velocity) of a point, each as x and y."""
     a = np.radians(angle)
     ca, sa = np.cos(a), np.sin(a)
-    ln, rt = links[link], rates[link]
+    ln, rt = links[int(link) - 1], rates[int(link) - 1]
     c, s, w = ln.c, ln.s, rt.w
     px, py = r * (c * ca - s * sa), r * (s * ca + c * sa)
-    return ((px, py), (ln.x + px, ln.y + py), (rt.vx - w * py, rt.vy + w * px))
+    return px, py, ln.x + px, ln.y + py, rt.vx - w * py, rt.vy + w * px
 
 
 def _element(e, links, rates):
-    """The element's offsets, L, dL/dt, tension and unit vector a -> b."""
-    pa, xa, va = _place(e.a, links, rates)
-    pb, xb, vb = _place(e.b, links, rates)
-    dx, dy = xb[0] - xa[0], xb[1] - xa[1]
+    """The element's offsets of a and b, L, dL/dt, tension and unit vector a -> b."""
+    pax, pay, xax, xay, vax, vay = _place(e.a_link, e.a_r, e.a_angle, links, rates)
+    pbx, pby, xbx, xby, vbx, vby = _place(e.b_link, e.b_r, e.b_angle, links, rates)
+    dx, dy = xbx - xax, xby - xay
     length = np.hypot(dx, dy)
     ux, uy = dx / length, dy / length
-    rate = ux * (vb[0] - va[0]) + uy * (vb[1] - va[1])
-    tension = e.k * (length - e.length) if isinstance(e, Spring) else e.c * rate
-    return pa, pb, length, rate, tension, ux, uy
+    rate = ux * (vbx - vax) + uy * (vby - vay)
+    tension = e.k * (length - e.length) if e.spring == 1.0 else e.c * rate
+    return pax, pay, pbx, pby, length, rate, tension, ux, uy
 
 
-@step(provides=("element_loads",), needs=("elements", "NELEMENTS", "links", "link_rates"),
+@step(provides=("element_loads",), needs=("k", "elements", "NELEMENTS", "links", "link_rates"),
       zero_when=("NELEMENTS",))
-def _elements(elements, NELEMENTS, links, link_rates):
-    """Each element's pull on its two points, summed per link (a point on the frame passes
+def _elements(k, elements, NELEMENTS, links, link_rates):
+    """The elements' pulls on their points on link k, summed (a point on the frame passes
     its force to the ground)."""
-    per_link: dict[int, list[Any]] = {k: [0.0, 0.0, 0.0] for k in links}
+    fx_k, fy_k, m_k = 0.0, 0.0, 0.0
     for e in elements:
-        pa, pb, _, _, t, ux, uy = _element(e, links, link_rates)
-        for (link, _, _), p, sign in ((e.a, pa, 1.0), (e.b, pb, -1.0)):
-            fx, fy = sign * t * ux, sign * t * uy
-            f = per_link[link]
-            f[0] = f[0] + fx
-            f[1] = f[1] + fy
-            f[2] = f[2] + (p[0] * fy - p[1] * fx)
-    return {k: tuple(f) for k, f in per_link.items() if k != 1}
+        if e.a_link == k or e.b_link == k:
+            pax, pay, pbx, pby, _, _, t, ux, uy = _element(e, links, link_rates)
+            if e.a_link == k:
+                fx, fy = t * ux, t * uy
+                fx_k = fx_k + fx
+                fy_k = fy_k + fy
+                m_k = m_k + (pax * fy - pay * fx)
+            if e.b_link == k:
+                fx, fy = -1.0 * t * ux, -1.0 * t * uy
+                fx_k = fx_k + fx
+                fy_k = fy_k + fy
+                m_k = m_k + (pbx * fy - pby * fx)
+    return fx_k, fy_k, m_k
 
 
 #: The per-element outputs: SPRINGk_L, SPRINGk_LD, SPRINGk_F, then DAMPERk_... .
@@ -176,22 +201,40 @@ ELEMENT_OUTPUTS = tuple(f"{kind}{k}_{q}" for kind in ("SPRING", "DAMPER")
                         for k in range(1, MAX_ELEMENTS + 1) for q in ("L", "LD", "F"))
 
 
-@step(provides=ELEMENT_OUTPUTS, needs=("elements", "links", "link_rates"),
-      zero_when=("NELEMENTS",))
-def _element_outputs(elements, links, link_rates):
-    out: dict[str, Any] = dict.fromkeys(ELEMENT_OUTPUTS, 0.0)
-    count = {"SPRING": 0, "DAMPER": 0}
-    for e in elements:
-        kind = "SPRING" if isinstance(e, Spring) else "DAMPER"
-        count[kind] += 1
-        _, _, length, rate, tension, _, _ = _element(e, links, link_rates)
-        for q, v in (("L", length), ("LD", rate), ("F", tension)):
-            out[f"{kind}{count[kind]}_{q}"] = v
-    return tuple(out[n] for n in ELEMENT_OUTPUTS)
+def _element_output(element, present, links, link_rates):
+    """One element's length L, its rate dL/dt and its tension (times ``present``: 1, or 0
+    for a slot the scene leaves empty, whose step the plan skips)."""
+    _, _, _, _, length, rate, tension, _, _ = _element(element, links, link_rates)
+    return length * present, rate * present, tension * present
+
+
+#: One step per element's outputs (run only for the elements the scene has).
+_OUTPUT_STEPS = tuple(
+    Step(f"_element_output_{kind}{k}", _element_output,
+         tuple(f"{kind}{k}_{q}" for q in ("L", "LD", "F")),
+         (f"{kind.lower()}{k}", f"N{kind}{k}", "links", "link_rates"), (f"N{kind}{k}",),
+         ((f"N{kind}{k}",),))
+    for kind in ("SPRING", "DAMPER") for k in range(1, MAX_ELEMENTS + 1))
+
+#: An empty slot's stand-in: a still element on the frame, a unit long, pulling nothing.
+_EMPTY = ElementValues(0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
-    return {"elements": scene.elements, "NELEMENTS": float(len(scene.elements))}
+    links = len(link_words(scene))
+    for e in scene.elements:
+        for p in (e.a, e.b):
+            if p[0] > links:
+                raise ValueError(f"a spring's or damper's point on link {p[0]}: this "
+                                 f"linkage's links are 1 (the frame) to {links}")
+    values = tuple(_values(e) for e in scene.elements)
+    ns: dict[str, Any] = {"elements": values, "NELEMENTS": float(len(values))}
+    for kind in ("SPRING", "DAMPER"):
+        mine = [v for v in values if (v.spring == 1.0) == (kind == "SPRING")]
+        for k in range(1, MAX_ELEMENTS + 1):
+            ns[f"{kind.lower()}{k}"] = mine[k - 1] if k <= len(mine) else _EMPTY
+            ns[f"N{kind}{k}"] = 1.0 if k <= len(mine) else 0.0
+    return ns
 
 
 _QUANTITIES = {"L": ("length", "length"), "LD": ("speed", "rate of change of the length"),
@@ -339,7 +382,7 @@ b = { link = "rocker", distance = 6.0, angle = 0.0 }
 c = 0.5                       # lb sec/in or N s/m"""
 
 
-EFFECT = Effect("springs and dampers", (step_of(_elements), step_of(_element_outputs)), _seed,
+EFFECT = Effect("springs and dampers", (step_of(_elements), *_OUTPUT_STEPS), _seed,
                 torque="TORQ_ELEMENTS", applies="element_loads",
                 params=(Param("elements", (), check_elements,
                               "sequence of Spring and Damper\n    Springs and dampers between "

@@ -61,16 +61,16 @@ def _seed(mechanism: Any, ath2: Any, scene: Any) -> dict[str, Any]:
 def _links(R1, R2, c2, s2, c3, s3, c4, s4, W2, W3, W4, RG2, RG3, RG4, cd2, sd2, cd3, sd3, cd4,
            sd4):
     """The links as the effects see them (engine/links.py): 2 from O2, 3 from A, 4 from O4."""
-    return {1: FRAME, 2: Link(c2, s2, 0.0, 0.0, W2, RG2, cd2, sd2),
-            3: Link(c3, s3, R2 * c2, R2 * s2, W3, RG3, cd3, sd3),
-            4: Link(c4, s4, R1, 0.0, W4, RG4, cd4, sd4)}
+    return (FRAME, Link(c2, s2, 0.0, 0.0, W2, RG2, cd2, sd2),
+            Link(c3, s3, R2 * c2, R2 * s2, W3, RG3, cd3, sd3),
+            Link(c4, s4, R1, 0.0, W4, RG4, cd4, sd4))
 
 
 @step(provides=("link_rates",), needs=("R2", "c2", "s2", "TH2D", "TH3D", "TH4D"))
 def _link_rates(R2, c2, s2, TH2D, TH3D, TH4D):
     """Each link's angular velocity and its base point's velocity (A's for link 3)."""
-    return {1: FRAME_RATE, 2: LinkRate(TH2D, 0.0, 0.0),
-            3: LinkRate(TH3D, -R2 * s2 * TH2D, R2 * c2 * TH2D), 4: LinkRate(TH4D, 0.0, 0.0)}
+    return (FRAME_RATE, LinkRate(TH2D, 0.0, 0.0),
+            LinkRate(TH3D, -R2 * s2 * TH2D, R2 * c2 * TH2D), LinkRate(TH4D, 0.0, 0.0))
 
 
 def _full_turn(mechanism: Any) -> str | None:
@@ -83,13 +83,12 @@ def _full_turn(mechanism: Any) -> str | None:
     return f"the crank cannot make a whole revolution (a {c.kind})"
 
 
-_NONE = (0.0, 0.0, 0.0)
 _GEOMETRY = ("R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34")
 
 
 def _statics(loads, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    """The slots for loads ``{link: (fx, fy, m about its base pin)}`` on links 2-4."""
-    f2, f3, f4 = (loads.get(k, _NONE) for k in (2, 3, 4))
+    """The slots for loads ``(fx, fy, m about its base pin)`` on links 2, 3 and 4."""
+    f2, f3, f4 = loads
     return pins(f2[0], f2[1], f2[2], f3[0], f3[1], f3[2], f4[0], f4[1], f4[2],
                 R2, R3, R4, c2, s2, c3, s3, c4, s4, s34)
 

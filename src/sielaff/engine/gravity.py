@@ -15,18 +15,15 @@ from sielaff.engine.values import LIMIT
 from sielaff.mechanism import STANDARD_GRAVITY
 
 
-@step(provides=("gravity_loads",), needs=("GX", "GY", "GW", "links"), zero_when=("GX", "GY"))
-def _gravity(GX, GY, GW, links):
-    """Each moving link's weight m g at its centre of mass, as a force and its moment
-    about the link's base point (m = W / GW: the W fields are weights in the report's
-    system, masses in SI)."""
-    out = {}
-    for k, link in links.items():
-        if k == 1:
-            continue  # the frame's weight is the ground's
-        fx, fy = link.W / GW * GX, link.W / GW * GY
-        out[k] = (fx, fy, link.RG * (link.cd * fy - link.sd * fx))
-    return out
+@step(provides=("gravity_loads",), needs=("k", "GX", "GY", "GW", "links"),
+      zero_when=("GX", "GY"))
+def _gravity(k, GX, GY, GW, links):
+    """Link k's weight m g at its centre of mass, as a force and its moment about the
+    link's base point (m = W / GW: the W fields are weights in the report's system, masses
+    in SI)."""
+    link = links[k - 1]
+    fx, fy = link.W / GW * GX, link.W / GW * GY
+    return fx, fy, link.RG * (link.cd * fy - link.sd * fx)
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
@@ -91,5 +88,4 @@ EFFECT = Effect("gravity", (step_of(_gravity),), _seed,
                 summary=lambda scene, units: "gravity", describe=_describe,
                 spec=SpecForm(("gravity",), _read, _write,
                               'gravity = "down"              # or [gx, gy] in length/sec^2; '
-                              "absent: off"),
-                compiled=True)
+                              "absent: off"))

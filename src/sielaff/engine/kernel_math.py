@@ -1,13 +1,16 @@
-"""The compiled backend's arithmetic: branch-free sin, cos and atan2 (their constants
-and polynomials), numba intrinsics of one LLVM instruction each, and the helpers the
-kernel generator (:mod:`sielaff.engine.compiled`) writes out inline, each for one
-position.  The accuracy claims are stated in :mod:`sielaff.engine.compiled`'s doc and
-tested against mpmath (``tests/test_compiled_transcendentals.py``)."""
+"""The compiled backend's arithmetic for one position: what ``np`` stands for when the
+kernel generator (:mod:`sielaff.engine.kernel`) compiles a step, and the one-position
+forms of :mod:`sielaff.engine.arith`'s operations.
+
+sin, cos and atan2 are branch-free (Cody-Waite reduction and Chebyshev polynomials by
+fused multiply-adds, atan2 by octant reduction), so that LLVM vectorises the loop; mod
+360 is exact.  The accuracy claims are stated in :mod:`sielaff.engine.compiled`'s doc and
+tested against mpmath (``tests/test_compiled_transcendentals.py``).  numba is imported
+only by :func:`one_position` and :func:`_intrinsics`, on the first compiled request."""
 
 from __future__ import annotations
 
-import ast
-import copy
+import functools
 import math
 
 import numpy as np
@@ -58,11 +61,11 @@ def _floor(x):
     return float(np.floor(x))
 
 
+@functools.cache
 def _intrinsics():
-    """(_select, _floor, _address, _stream4, _sfence, _fma) for numba: each one LLVM
-    instruction (or two), no call, no branch."""
+    """(_select, _floor, _fma) for numba: each one LLVM instruction, no call, no branch."""
     import llvmlite.ir as ir
-    from numba.core import cgutils, types
+    from numba.core import types
     from numba.extending import intrinsic
 
     @intrinsic
@@ -105,87 +108,10 @@ def _intrinsics():
 
         return types.float64(x, y, z), codegen
 
-    @intrinsic
-    def address(typingctx, a):
-        """The address of an array's first element."""
-        if not isinstance(a, types.Array):
-            return None
-
-        def codegen(context, builder, sig, args):
-            arr = context.make_array(sig.args[0])(context, builder, args[0])
-            return builder.ptrtoint(arr.data, ir.IntType(64))
-
-        return types.uint64(a), codegen
-
-    @intrinsic
-    def stream4(typingctx, dst, k, src, j, i):
-        """dst[k:k+4] = src[j, i:i+4], one non-temporal 32-byte store (dst + 8 k must
-        be 32-byte aligned): the cache line goes to memory without being read first."""
-        if not (isinstance(dst, types.Array) and isinstance(src, types.Array)
-                and src.ndim == 2 and src.layout == "C"):
-            return None
-
-        def codegen(context, builder, sig, args):
-            d = context.make_array(sig.args[0])(context, builder, args[0])
-            s = context.make_array(sig.args[2])(context, builder, args[2])
-            kk, jj, ii = (context.cast(builder, args[n], sig.args[n], types.intp)
-                          for n in (1, 3, 4))
-            ncol = builder.extract_value(s.shape, 1)
-            sp = builder.gep(s.data, [builder.add(builder.mul(jj, ncol), ii)])
-            vec = ir.VectorType(ir.DoubleType(), 4)
-            v = builder.load(builder.bitcast(sp, vec.as_pointer()), align=8)
-            st = builder.store(v, builder.bitcast(builder.gep(d.data, [kk]), vec.as_pointer()),
-                               align=32)
-            st.set_metadata("nontemporal", builder.module.add_metadata(
-                [ir.Constant(ir.IntType(32), 1)]))
-            return context.get_dummy_value()
-
-        return types.none(dst, k, src, j, i), codegen
-
-    @intrinsic
-    def sfence(typingctx):
-        """Orders the non-temporal stores before anything after the kernel: x86's
-        sfence there, an LLVM seq_cst fence on other machines (whose compilers have no
-        x86 intrinsic: the kernel would not compile at all)."""
-        x86 = _x86()
-
-        def codegen(context, builder, sig, args):
-            if x86:
-                fn = cgutils.get_or_insert_function(
-                    builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse.sfence")
-                builder.call(fn, [])
-            else:
-                builder.fence("seq_cst")
-            return context.get_dummy_value()
-
-        return types.none(), codegen
-
-    return select, floor, address, stream4, sfence, fma
+    return select, floor, fma
 
 
-def _x86() -> bool:
-    """Whether numba compiles for an x86 machine here (it compiles for this process's)."""
-    import llvmlite.binding as llvm
-
-    return llvm.get_process_triple().split("-")[0] in ("x86_64", "i386", "i686")
-
-
-# Python stand-ins for the intrinsics (the helpers run as plain Python in the tests)
-_uintp = int
-
-
-def _address(a):
-    return a.ctypes.data
-
-
-def _stream4(dst, k, src, j, i):
-    dst[k:k + 4] = src[j, i:i + 4]
-
-
-def _sfence():
-    return None
-
-
+# Python stand-ins for the intrinsics (the transcendentals run as plain Python in the tests)
 def _fma(x, y, z):
     """x y + z rounded once (the kernel's ``llvm.fma``), exactly, in Python."""
     if not all(math.isfinite(v) for v in (x, y, z)):
@@ -193,26 +119,6 @@ def _fma(x, y, z):
     from fractions import Fraction
 
     return float(Fraction(x) * Fraction(y) + Fraction(z))
-
-
-def _put(o, s0, sc, j, m, stream):
-    """o[s0:s0+m] = sc[j, :m]; with ``stream``, the whole 64-byte lines of o by
-    non-temporal stores (o's elements 8-byte aligned; a partial line at either end by
-    plain stores: a line written in two halves by streaming stores costs a read)."""
-    q = _uintp(0)
-    if stream:
-        a = _address(o) + s0 * _uintp(8)
-        h = ((_uintp(64) - (a & _uintp(63))) & _uintp(63)) >> _uintp(3)
-        h = _select(h < m, h, m)
-        for i in range(h):
-            o[s0 + i] = sc[j, i]
-        q = h
-        while q + _uintp(8) <= m:
-            _stream4(o, s0 + q, sc, j, q)
-            _stream4(o, s0 + q + _uintp(4), sc, j, q + _uintp(4))
-            q += _uintp(8)
-    for i in range(q, m):
-        o[s0 + i] = sc[j, i]
 
 
 def _mod360(x):
@@ -282,136 +188,129 @@ def _half_turn(y, x):
     return _select(x < 0.0, _PI_HI - (a - _PI_LO), a)
 
 
-def _link_angle(s, c):
-    """The listing's link angle: atan2 in degrees, in (-90, 270]."""
-    a = _atan2(s, c)
-    a = a * DEGREES
-    return _select(a <= -90.0, a + 360.0, a)
+# --- one position's numpy: what ``np`` stands for when a step is compiled -------------
+# (sielaff.engine.kernel compiles each step's own code with ``np`` bound to this
+# namespace and arith's three operations to their one-position forms below).  Each takes
+# and ignores numpy's ``out=``: a step always assigns what a call returns.
+
+def _np_sin(x, out=None):
+    return _sincos(x)[0]
 
 
-def _direction(x, y):
-    """A vector's direction in degrees, in [0, 360); 0 for the zero vector (whose
-    half turn is 0: -0.0 < 0 is false)."""
-    a = _half_turn(y, x)
-    a = _select(y < 0.0, _TWO_PI_HI - (a - _TWO_PI_LO), a)
-    d = a * DEGREES
-    return _select(d >= 360.0, 0.0, d)
+def _np_cos(x, out=None):
+    return _sincos(x)[1]
 
 
-def _magnitude(x, y):
-    m = x * x
-    m = m + y * y
-    return math.sqrt(m)
+def _np_arctan2(y, x, out=None):
+    return _atan2(y, x)
 
 
-def _gamma(s34, c34):
-    """The transmission angle in degrees, [0, 180] on both branches."""
-    g = _half_turn(s34, c34)
-    return g * DEGREES
+def _np_sqrt(x, out=None):
+    return math.sqrt(x)
 
 
-def _crank(ath2):
-    """(sin, cos) of the crank angle reduced modulo 360 degrees (positions._crank_angle)."""
-    a = _mod360(ath2)
-    s, c = _sincos(a * RADIANS)
-    return s, c
+def _np_negative(x, out=None):
+    return -x
 
 
-def _rot_direction(rw, d):
-    """The direction of r w e^{i(line + 90)} with d = line (+ ADEL), degrees [0, 360)."""
-    d = _select(rw > 0.0, d + 90.0, d - 90.0)
-    d = _mod360(d)
-    d = _select(d >= 360.0, 0.0, d)
-    d = _select(rw == 0.0, 0.0, d)
-    d = _select(rw != rw, math.nan, d)
-    return d + 0.0
+def _np_subtract(a, b, out=None):
+    return a - b
 
 
-def _turned(m, k, ath2, phi):
-    """The direction of a vector of magnitude m at ATH2 + phi (phi in [0, 360)): 0 for
-    the zero vector, NaN at a NaN angle but for a skipped step's 0.0 (k == 0)."""
-    d = _mod360(ath2)
-    d = _mod360(d + phi)
-    d = _select(d >= 360.0, 0.0, d)
-    z = _select(k == 0.0, 0.0, ath2 - ath2)
-    d = _select(m == 0.0, z, d)
-    return d + 0.0
+def _np_divide(a, b, out=None):
+    return a / b
 
 
-def _between(a3, a4):
-    """The unsigned angle between two lines at a3 and a4 degrees (each in (-90, 270]),
-    in [0, 180]: GAMMA from ATH3 and ATH4 (no atan2 of its own)."""
-    g = abs(a4 - a3)
-    return _select(g > 180.0, 360.0 - g, g)
+def _np_add(a, b, out=None, where=True):
+    if out is None:  # numba prunes the branch not taken for the call's types
+        return a + b
+    return _select(where, a + b, out)
 
 
-def _acc_direction(line, turn, phi, r, w2, a, nz):
-    """The direction in degrees, [0, 360), of r e^{i(line + turn)} (-w2 + i a): ``line``
-    in degrees, ``turn`` a constant of the call in [0, 360) (with 180 added where r < 0),
-    ``phi`` the direction of (-w2, a); 0 for the zero vector (r = 0, or w2 = a = 0), or
-    ``nz``, NaN where an ingredient is not finite, as the components would be."""
-    d = _mod360(line + turn)
-    d = _mod360(d + phi)
-    d = _select(d >= 360.0, 0.0, d)
-    d = _select((r == 0.0) | ((w2 == 0.0) & (a == 0.0)), nz, d)
-    return d + 0.0
+def _np_maximum(a, b, out=None):
+    return _select((a >= b) | (a != a), a, b)  # NaN propagates, as numpy's
 
 
-_HELPERS = (_between, _acc_direction, _turned, _mod360, _sincos, _atan2, _half_turn,
-            _link_angle, _direction, _magnitude, _rot_direction, _gamma, _crank)
-_HELPER_ASTS: dict[str, ast.FunctionDef] = {}
+def _np_mod(x, y):
+    return _mod360(x) if y == 360.0 else x - y * _floor(x / y)
 
 
-def _helper_asts() -> dict[str, ast.FunctionDef]:
-    """The helpers' syntax trees (read from this file once)."""
-    if _HELPER_ASTS:
-        return _HELPER_ASTS
-    import inspect
-
-    out = _HELPER_ASTS
-    for f in _HELPERS:
-        fn = ast.parse(inspect.getsource(f)).body[0]
-        assert isinstance(fn, ast.FunctionDef)
-        out[f.__name__] = fn
-    return out
+def _np_where(c, a, b):
+    return _select(c, a, b)
 
 
-class _Rename(ast.NodeTransformer):
-    def __init__(self, names: dict[str, str]):
-        self.names = names
-
-    def visit_Name(self, node: ast.Name) -> ast.Name:
-        return ast.copy_location(ast.Name(self.names.get(node.id, node.id), node.ctx), node)
+def _np_abs(x):
+    return abs(x)
 
 
-def _inline(lines: list[str], fns: dict[str, ast.FunctionDef], counter: list[int]) -> list[str]:
-    """``lines`` with each ``x = _helper(...)`` (or ``x, y = ...``) written out in place,
-    its locals renamed apart: one flat loop body (numba's own inlining takes minutes, and
-    LLVM leaves calls)."""
-    out: list[str] = []
-    for stmt in ast.parse("\n".join(lines)).body:
-        call = stmt.value if isinstance(stmt, ast.Assign) else None
-        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name)
-                and call.func.id in fns):
-            out.append(ast.unparse(stmt))
-            continue
-        fn = fns[call.func.id]
-        counter[0] += 1
-        params = [a.arg for a in fn.args.args]
-        local = set(params) | {t.id for st in ast.walk(fn) if isinstance(st, ast.Assign)
-                               for tg in st.targets for t in ast.walk(tg)
-                               if isinstance(t, ast.Name)}
-        ren = _Rename({n: f"{n}_{counter[0]}" for n in local})
-        body = [f"{n}_{counter[0]} = {ast.unparse(arg)}"
-                for n, arg in zip(params, call.args, strict=True)]
-        for st in fn.body:
-            if isinstance(st, ast.Expr) and isinstance(st.value, ast.Constant):
-                continue  # the docstring
-            if isinstance(st, ast.Return) and st.value is not None:
-                assert isinstance(stmt, ast.Assign)  # the call's line (checked above)
-                value = ren.visit(copy.deepcopy(st.value))
-                body.append(f"{ast.unparse(stmt.targets[0])} = {ast.unparse(value)}")
-            else:
-                body.append(ast.unparse(ren.visit(copy.deepcopy(st))))
-        out += _inline(body, fns, counter)
-    return out
+def _np_same(x, dtype=None):  # asarray, max, min of one position
+    return x
+
+
+def _np_ndim(x):
+    return 0
+
+
+def _np_size(x):
+    return 1
+
+
+def _np_any(x):
+    return x != 0.0
+
+
+def _owned(x):  # arith.owned: one position is a float, never an array to write into
+    return False
+
+
+def _put_one(dst, value, where):  # arith.put
+    return _select(where, value, dst)
+
+
+def _at_one(name, v, angles):  # values.at: the runner takes no functions
+    return v
+
+
+def _plus_one(a, b):  # statics.plus: a skipped step's 0.0 is the literal 0.0 here
+    return a + b
+
+
+#: numpy's names for one position, each the function above (the rest are numba's own)
+_ONE_POSITION = {"sin": _np_sin, "cos": _np_cos, "arctan2": _np_arctan2, "sqrt": _np_sqrt,
+                 "negative": _np_negative, "subtract": _np_subtract, "divide": _np_divide,
+                 "add": _np_add, "maximum": _np_maximum, "mod": _np_mod, "where": _np_where,
+                 "abs": _np_abs, "asarray": _np_same, "max": _np_same, "min": _np_same,
+                 "ndim": _np_ndim, "size": _np_size, "any": _np_any}
+#: numba's own one-position forms of these numpy names
+_NUMBA_OWN = ("radians", "degrees", "isnan", "isfinite", "exp2", "log2", "round", "hypot",
+              "sign", "nan", "inf", "pi", "float64")
+
+
+def one_position():
+    """(``np`` for one position, {arith or statics function: its one-position form}),
+    compiled by numba (imported here, on the first compiled request)."""
+    import types
+
+    import numba
+
+    from sielaff.engine import arith, statics, values
+
+    jit = numba.njit(error_model="numpy", nogil=True, inline="always")
+    glob = dict(globals())
+    sel, flo, fma = _intrinsics()
+    glob.update(_select=sel, _floor=flo, _fma=fma)
+    compiled = {}
+    for name in ("_mod360", "_sincos", "_half_turn", "_atan2"):
+        f = glob[name]
+        compiled[name] = jit(types.FunctionType(f.__code__, glob, name))
+        glob[name] = compiled[name]
+    ns = types.ModuleType("sielaff_one_position_numpy")
+    for name in _NUMBA_OWN:
+        setattr(ns, name, getattr(np, name))
+    for name, f in _ONE_POSITION.items():
+        setattr(ns, name, jit(types.FunctionType(f.__code__, glob, f.__name__, f.__defaults__)))
+    twins = {arith.owned: _owned, arith.put: _put_one, arith.mod360: _mod360,
+             statics.plus: _plus_one, values.at: _at_one}
+    forms = {k: compiled.get(f.__name__) or jit(types.FunctionType(f.__code__, glob, f.__name__))
+             for k, f in twins.items()}
+    return ns, forms

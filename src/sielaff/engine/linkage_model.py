@@ -193,23 +193,23 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
 
     # the links as the effects see them
     def _links(pos: Any, *m: Any) -> Any:
-        out: dict[int, Any] = {1: FRAME}
+        out: list[Any] = [FRAME]
         for i, k in enumerate(moving):
             W, _, RG, ADEL = m[4 * i:4 * i + 4]
             c, s, bx, by = pos.link[k]
             a = np.radians(ADEL)
             ca, sa = np.cos(a), np.sin(a)
-            out[k] = Link(c, s, bx, by, W, RG, c * ca - s * sa, s * ca + c * sa)
-        return out
+            out.append(Link(c, s, bx, by, W, RG, c * ca - s * sa, s * ca + c * sa))
+        return tuple(out)
     b.add("_links", _links, ("links",), ("pos",) + masses)
 
     def _link_rates(pos: Any, vel: Any) -> Any:
-        out: dict[int, Any] = {1: FRAME_RATE}
+        out: list[Any] = [FRAME_RATE]
         for k in moving:
             base = dyads._base(topology, k)
             vx, vy = vel.v.get(base, (0.0, 0.0))
-            out[k] = LinkRate(vel.w[k], vx, vy)
-        return out
+            out.append(LinkRate(vel.w[k], vx, vy))
+        return tuple(out)
     b.add("_link_rates", _link_rates, ("link_rates",), ("pos", "vel"))
 
     def _inertia_loads(pos: Any, acc: Any, GW: Any, *m: Any) -> Any:
@@ -227,6 +227,8 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
     slots = joints.slots(topology)
 
     def statics(loads: Any, pos: Any) -> Any:
+        if not isinstance(loads, dict):  # an effect's: one (fx, fy, m) per moving link
+            loads = dict(zip(moving, loads, strict=True))
         return joints.solve(topology, loads, pos)
     b.add("_inertia_forces", statics, tuple(s + "_i" for s in slots), ("inertia_loads", "pos"))
 

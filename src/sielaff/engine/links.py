@@ -3,17 +3,20 @@
 An effect that puts loads on the links (gravity, external loads, springs and dampers)
 does not know the linkage: it reads ``links`` (each link's line and base point, its
 weight and centre of mass) and ``link_rates`` (its angular velocity and its base
-point's velocity), which the model provides as steps, and gives its loads per link as
-``{link: (fx, fy, m)}``: a resultant force in the frame's axes and its moment about the
-link's base point.  The model's statics (``Model(statics=...)``) turns those into the
-pin forces and the drive torque.  Link 1 is the frame (its base at the origin, its line
-along +x, at rest).  Lengths in in or m, angles as cosines and sines, rates in rad/sec.
+point's velocity), which the model provides as steps, each a tuple whose item k - 1 is
+link k's, and gives its load on one link k as ``(fx, fy, m)``: a resultant force in the
+frame's axes and its moment about the link's base point (its step is written for one
+link, its first parameter ``k``; the model calls it for each moving link,
+``registry.per_link``).  The model's statics (``Model(statics=...)``) turns the loads,
+one triple per moving link in order, into the pin forces and the drive torque.  Link 1
+is the frame (its base at the origin, its line along +x, at rest).  Lengths in in or m,
+angles as cosines and sines, rates in rad/sec.  Links are named tuples of numbers, so
+that the compiled backend compiles the effects as written.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 __all__ = ["FOUR_BAR_LINKS", "FRAME", "FRAME_RATE", "Link", "LinkRate", "link_words",
            "links_by_name"]
@@ -36,8 +39,7 @@ def links_by_name(words: dict[int, str], frame: bool = False) -> dict[Any, int]:
     return out
 
 
-@dataclass(frozen=True)
-class Link:
+class Link(NamedTuple):
     """One link at the positions of a request (each field a number or an array).
 
     ``c, s``: the cosine and sine of the link's line; ``x, y``: its base point (the pin a
@@ -55,8 +57,7 @@ class Link:
     sd: Any = 0.0
 
 
-@dataclass(frozen=True)
-class LinkRate:
+class LinkRate(NamedTuple):
     """One link's angular velocity ``w`` [rad/sec, CCW +] and its base point's velocity
     ``(vx, vy)`` [in/sec or m/s]."""
 

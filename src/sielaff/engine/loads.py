@@ -13,14 +13,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from dataclasses import replace as dataclasses_replace
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.links import FOUR_BAR_LINKS, link_words, links_by_name
 from sielaff.engine.registry import Effect, step, step_of
-from sielaff.engine.values import call_checked, check_value
+from sielaff.engine.values import at, call_checked, check_value
 
 
 @dataclass(frozen=True)
@@ -67,31 +67,48 @@ class Load:
         return call_checked(f"Load.{name}", v, ath2)
 
 
-@step(provides=("external_loads",), needs=("loads", "NLOADS", "ATH2", "links"),
+class LoadValues(NamedTuple):
+    """A Load as the step takes it: its link's number and its fields (numbers, arrays or
+    functions of ATH2)."""
+
+    link: float
+    r: Any
+    angle: Any
+    fx: Any
+    fy: Any
+    torque: Any
+
+
+@step(provides=("external_loads",), needs=("k", "loads", "NLOADS", "ATH2", "links"),
       zero_when=("NLOADS",))
-def _loads(loads, NLOADS, ATH2, links):
-    """The loads summed per link: the force and its moment about the link's base point
-    plus the pure torque."""
-    per_link: dict[int, list[Any]] = {}
+def _loads(k, loads, NLOADS, ATH2, links):
+    """The loads on link k summed: each force and its moment about the link's base point,
+    plus the pure torques."""
+    link = links[k - 1]
+    c, s = link.c, link.s
+    fx_k, fy_k, m_k = 0.0, 0.0, 0.0
     for load in loads:
-        if load.link not in links:
-            raise ValueError(f"Load.link = {load.link}: this linkage's moving links are 2 to "
-                             f"{max(links)}")
-        link = links[load.link]
-        c, s = link.c, link.s
-        r, fx, fy = load.value("r", ATH2), load.value("fx", ATH2), load.value("fy", ATH2)
-        a = np.radians(load.value("angle", ATH2))
-        px = r * (c * np.cos(a) - s * np.sin(a))  # the point, from the base pin
-        py = r * (s * np.cos(a) + c * np.sin(a))
-        f = per_link.setdefault(load.link, [0.0, 0.0, 0.0])
-        f[0] = f[0] + fx
-        f[1] = f[1] + fy
-        f[2] = f[2] + (px * fy - py * fx) + load.value("torque", ATH2)
-    return {k: tuple(f) for k, f in per_link.items()}
+        if load.link == k:
+            r, fx = at("Load.r", load.r, ATH2), at("Load.fx", load.fx, ATH2)
+            fy = at("Load.fy", load.fy, ATH2)
+            a = np.radians(at("Load.angle", load.angle, ATH2))
+            px = r * (c * np.cos(a) - s * np.sin(a))  # the point, from the base pin
+            py = r * (s * np.cos(a) + c * np.sin(a))
+            fx_k = fx_k + fx
+            fy_k = fy_k + fy
+            m_k = m_k + (px * fy - py * fx) + at("Load.torque", load.torque, ATH2)
+    return fx_k, fy_k, m_k
 
 
 def _seed(scene: Any, mechanism: Any) -> dict[str, Any]:
-    return {"loads": scene.loads, "NLOADS": float(len(scene.loads))}
+    links = len(link_words(scene))
+    for load in scene.loads:
+        if load.link > links:
+            raise ValueError(f"Load.link = {load.link}: this linkage's moving links are 2 to "
+                             f"{links}")
+    values = tuple(LoadValues(float(ld.link), ld.r, ld.angle, ld.fx, ld.fy, ld.torque)
+                   for ld in scene.loads)
+    return {"loads": values, "NLOADS": float(len(values))}
 
 
 #: The fields of a Load that may vary with the crank angle.
@@ -195,5 +212,4 @@ EFFECT = Effect("loads", (step_of(_loads),), _seed,
                 on=lambda scene: bool(scene.loads),
                 summary=lambda scene, units: (f"{len(scene.loads)} load"
                                               f"{'s' if len(scene.loads) > 1 else ''}"),
-                describe=_describe, spec=SpecForm(("load",), _read, _write, _HELP),
-                compiled=True)
+                describe=_describe, spec=SpecForm(("load",), _read, _write, _HELP))

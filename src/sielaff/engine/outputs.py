@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from sielaff.engine.arith import owned, put
 from sielaff.engine.positions import _DEGREES
 from sielaff.engine.registry import Step
 
@@ -17,7 +18,7 @@ VECTORS = ("VG2", "VA", "VG3", "VB", "VG4", "AG2", "AA", "AG3", "AB", "AG4",
 def _magnitude(x, y):
     m = x * x  # np.hypot is ~7x slower; these magnitudes are far from overflow
     m += y * y
-    return np.sqrt(m, out=m) if isinstance(m, np.ndarray) else np.sqrt(m)
+    return np.sqrt(m, out=m) if owned(m) else np.sqrt(m)
 
 
 def _direction(x, y):
@@ -27,8 +28,8 @@ def _direction(x, y):
     is +-180 or -0, not the 0 a zero vector points at."""
     d = np.asarray(np.arctan2(y + 0.0, x + 0.0))
     d *= _DEGREES  # = np.degrees, in place
-    np.add(d, 360.0, out=d, where=d < 0.0)
-    np.copyto(d, 0.0, where=d >= 360.0)  # -tiny + 360 rounds to 360
+    d = np.add(d, 360.0, out=d, where=d < 0.0)
+    d = put(d, 0.0, d >= 360.0)  # -tiny + 360 rounds to 360
     d += 0.0  # -0.0 -> +0.0
     return d
 
@@ -52,9 +53,9 @@ def _rotating_direction(r, line, w, adel=0.0):
     d = np.add(line, adel)
     d = np.where(rw > 0.0, d + 90.0, d - 90.0)
     d = np.mod(d, 360.0)
-    np.copyto(d, 0.0, where=d >= 360.0)  # -tiny mod 360 rounds to 360
-    np.copyto(d, 0.0, where=rw == 0.0)
-    np.copyto(d, np.nan, where=np.isnan(rw))  # where the loop cannot close
+    d = put(d, 0.0, d >= 360.0)  # -tiny mod 360 rounds to 360
+    d = put(d, 0.0, rw == 0.0)
+    d = put(d, np.nan, np.isnan(rw))  # where the loop cannot close
     d += 0.0  # -0.0 -> +0.0
     return d
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from sielaff.engine.arith import mod360, owned, put
 from sielaff.engine.registry import step
 
 _EPS = np.finfo(float).eps
@@ -25,13 +26,9 @@ ASSEMBLY_TOL_EPS = 8.0
 @step(provides=("c2", "s2"), needs=("ATH2",))
 def _crank_angle(ATH2):
     """cos and sin of the crank angle, reduced modulo 360 degrees first."""
-    # exact (fmod), so ATH2 + 360 k gives identical results; a NaN makes min or max NaN,
-    # and then every element is reduced (NaN stays NaN, the others as without it)
-    if ATH2.size and not (ATH2.min() >= 0.0 and ATH2.max() < 360.0):
-        ATH2 = np.mod(ATH2, 360.0)
-    th2 = np.radians(ATH2)
+    th2 = np.radians(mod360(ATH2))  # exact, so ATH2 + 360 k gives identical results
     c2 = np.cos(th2)
-    return c2, np.sin(th2, out=th2) if isinstance(th2, np.ndarray) else np.sin(th2)
+    return c2, np.sin(th2, out=th2) if owned(th2) else np.sin(th2)
 
 
 def reachable(mechanism, n: int = 361):
@@ -57,8 +54,8 @@ def _length_scale(R1, R2, R3, R4):
     """1, or a power of two that brings the lengths near 1 where H^2 ~ L^4 would overflow
     or underflow (lengths past about 1E70 or below 1E-70): exact, and dimensionless
     results do not change."""
-    big = max(float(np.max(R)) for R in (R1, R2, R3, R4))
-    small = min(float(np.min(R)) for R in (R1, R2, R3, R4))
+    big = max(float(np.max(R1)), float(np.max(R2)), float(np.max(R3)), float(np.max(R4)))
+    small = min(float(np.min(R1)), float(np.min(R2)), float(np.min(R3)), float(np.min(R4)))
     if 1e-70 < small and big < 1e70:
         return 1.0
     return np.exp2(-np.round(np.log2(np.asarray(R1 + R2 + R3 + R4, dtype=float))))
@@ -78,37 +75,16 @@ def _loop_closure(R1, R2, R3, R4, c2, s2, BRANCH):
     dy = s2 * -R2
     zl2 = dx * dx
     zl2 += dy * dy
-    zl = np.sqrt(zl2)
-    # H^2 = (ZL+R3+R4)(ZL+R3-R4)(R3+R4-ZL)(R4+ZL-R3).  ZL is known to about
-    # eps (R1+R2+R3+R4) (it comes from R1 - R2 cos th2 and R2 sin th2), and so is each
-    # linear factor: one within ASSEMBLY_TOL_EPS eps (R1+R2+R3+R4) below 0 is a toggle
-    # pushed there by roundoff (clamped to 0: H = 0), one further below means the loop
-    # cannot close (NaN).
-    tol = R1 + R2 + R3 + R4
-    tol = -ASSEMBLY_TOL_EPS * _EPS * tol
-    t = zl + R3
-    hh = t + R4
-    t -= R4
-    _clamp(t, tol)
-    hh *= t
-    np.subtract(zl, R3, out=t)
-    u = R4 - t
-    t += R4
-    _clamp(u, tol)
-    _clamp(t, tol)
-    u *= t
-    hh *= u
-    del t, u, zl
-    h = np.sqrt(hh, out=hh)
+    h = _heron(R1, R2, R3, R4, zl2)
     if BRANCH != 1.0:
-        np.negative(h, out=h)
+        h = np.negative(h, out=h)
     k = 0.5 / R3
     p = zl2 + (R3 * R3 - R4 * R4)  # 2 ZL R3 cos PSI
     c3 = dx * p
     c3 -= dy * h
     s3 = dy * p
     s3 += dx * h
-    np.divide(k, zl2, out=p)  # 1 / (2 ZL^2 R3)
+    p = np.divide(k, zl2, out=p)  # 1 / (2 ZL^2 R3)
     c3 *= p
     s3 *= p
     c4 = R3 * c3
@@ -124,18 +100,43 @@ def _loop_closure(R1, R2, R3, R4, c2, s2, BRANCH):
     return c3, s3, c4, s4, h, zl2
 
 
+def _heron(R1, R2, R3, R4, zl2):
+    """4 x the area of the triangle A-B-O4 (sides ZL, R3, R4): H, 0 at a toggle, NaN where
+    the loop cannot close."""
+    zl = np.sqrt(zl2)
+    # H^2 = (ZL+R3+R4)(ZL+R3-R4)(R3+R4-ZL)(R4+ZL-R3).  ZL is known to about
+    # eps (R1+R2+R3+R4) (it comes from R1 - R2 cos th2 and R2 sin th2), and so is each
+    # linear factor: one within ASSEMBLY_TOL_EPS eps (R1+R2+R3+R4) below 0 is a toggle
+    # pushed there by roundoff (clamped to 0: H = 0), one further below means the loop
+    # cannot close (NaN).
+    tol = R1 + R2 + R3 + R4
+    tol = -ASSEMBLY_TOL_EPS * _EPS * tol
+    t = zl + R3
+    hh = t + R4
+    t -= R4
+    t = _clamp(t, tol)
+    hh *= t
+    t = np.subtract(zl, R3, out=t)
+    u = R4 - t
+    t += R4
+    u = _clamp(u, tol)
+    t = _clamp(t, tol)
+    u *= t
+    hh *= u
+    return np.sqrt(hh, out=hh) if owned(hh) else np.sqrt(hh)
+
+
 def _clamp(f, tol):
     """A linear factor of H^2 in place: NaN below ``tol`` (< 0), 0 in [tol, 0)."""
-    np.copyto(f, np.nan, where=f < tol)
-    np.maximum(f, 0.0, out=f)  # NaN stays NaN
+    f = put(f, np.nan, f < tol)
+    return np.maximum(f, 0.0, out=f)  # NaN stays NaN
 
 
 def _angle_deg(s, c):
     """atan2 in degrees, mapped to (-90, 270] (the listing's range for TH3, TH4)."""
     a = np.asarray(np.arctan2(s, c))
     a *= _DEGREES  # = np.degrees, in place: a fresh array costs more than the product
-    np.add(a, 360.0, out=a, where=a <= -90.0)
-    return a
+    return np.add(a, 360.0, out=a, where=a <= -90.0)
 
 
 @step(provides=("ASSEMBLED",), needs=("s34",))

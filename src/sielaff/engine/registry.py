@@ -121,8 +121,8 @@ class Effect:
     ``figure_outputs(scene)`` and ``figures(results, scene, units, speed)``, its
     headline figures over one revolution at the crank speed ``speed``; ``columns(scene)``,
     the outputs a table shows when it is on (all its outputs by default); ``spec``, its
-    form in a spec's ``[scene]``; ``compiled``, whether the compiled backend models it;
-    ``in_1966``, whether the 1966 program had it (TEX).
+    form in a spec's ``[scene]`` (the compiled backend asks no one: it compiles the
+    effect's steps or refuses them); ``in_1966``, whether the 1966 program had it (TEX).
 
     An effect that puts loads on the links names them in ``applies``: its step provides
     that name as ``{link: (fx, fy, m)}`` (:mod:`sielaff.engine.links`), and the model
@@ -146,7 +146,6 @@ class Effect:
     figures: Callable[[Mapping[str, Any], Any, str, float], list[Fact]] | None = None
     columns: Callable[[Any], tuple[str, ...]] | None = None
     spec: SpecForm | None = None
-    compiled: bool = False
     in_1966: bool = False
     applies: str | None = None
 
@@ -224,8 +223,7 @@ class Model:
         self.counts = counts
         #: The results that need no force analysis (set by the model's module).
         self.kinematics: tuple[str, ...] = ()
-        #: Each link's name (the frame is link 1), as specs and the tools say them.
-        self.link_names: dict[int, str] = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
+        self._link_names: dict[int, str] = {1: "frame", 2: "crank", 3: "coupler", 4: "rocker"}
         self.effects: list[Effect] = []
         self._own: list[Step] = []
         self.calls: Counter[str] = Counter()
@@ -275,6 +273,16 @@ class Model:
         self.effects.append(effect)
         self._derive()
         return self
+
+    @property
+    def link_names(self) -> dict[int, str]:
+        """Each link's name (the frame is link 1), as specs and the tools say them."""
+        return self._link_names
+
+    @link_names.setter
+    def link_names(self, names: dict[int, str]) -> None:
+        self._link_names = dict(names)
+        self._derive()  # an effect's loads are one per moving link
 
     @property
     def params(self) -> tuple[Param, ...]:
@@ -375,8 +383,10 @@ class Model:
                for e in self.effects if e.corrects and e not in on for s in e.steps]
         if self._redo is not None:
             off = [self._redo(s) for s in off]
-        steps = tuple(own) + tuple(s for e in self.effects if not e.corrects or e in on
-                                   for s in e.steps) + tuple(off) + tuple(derived)
+        links = len(self._link_names)
+        steps = tuple(own) + tuple(per_link(s, links) for e in self.effects
+                                   if not e.corrects or e in on for s in e.steps
+                                   ) + tuple(off) + tuple(derived)
         provider: dict[str, Step] = {}
         for st in steps:
             for name in st.provides:
@@ -401,10 +411,9 @@ class Model:
         by the model's statics (skipped with the effect: its loads are then zero)."""
         assert self.statics is not None and effect.applies is not None
         fn, geometry = self.statics
-
-        def _statics(loads: Any, *geo: Any) -> Any:
-            return fn(loads, *geo)
-
+        args = ", ".join(f"a{i}" for i in range(len(geometry) + 1))
+        _statics = _generated("_statics", (effect.applies,) + geometry, [f"statics({args})"],
+                              {"statics": fn})
         parts = self.parts_of(effect)
         provides = tuple(parts[s] for s in self.sums)
         return Step(f"_statics_{effect.applies}", _statics, provides,
@@ -531,27 +540,52 @@ class Model:
         return not_assembled
 
 
+def _generated(name: str, params: tuple[str, ...], returns: list[str],
+               glob: Mapping[str, Any] | None = None) -> Callable[..., Any]:
+    """A function ``name(*params)`` returning ``returns`` (expressions; a bare value if
+    one), written out as source: a derived step is then plain code, which the compiled
+    backend compiles as it compiles any step (no closure, no ``*args``)."""
+    args = [f"a{i}" for i in range(len(params))]
+    value = returns[0] if len(returns) == 1 else "(" + ", ".join(returns) + ",)"
+    src = f"def {name}({', '.join(args)}):\n    return {value}\n"
+    ns: dict[str, Any] = {"plus": plus, **(glob or {})}
+    exec(compile(src, f"<sielaff derived step {name}>", "exec"), ns)  # noqa: S102
+    fn = ns[name]
+    fn.__module__ = __name__
+    fn.__sielaff_source__ = src  # what the compiled backend's kernel cache hashes
+    return fn  # type: ignore[no-any-return]
+
+
+def per_link(st: Step, links: int) -> Step:
+    """A step written for one link (its first parameter ``k``, the link's number) as the
+    step giving one value for each moving link, 2 to ``links``, in order (an effect's loads
+    on the links); any other step as it is."""
+    if not st.needs or st.needs[0] != "k":
+        return st
+    needs = st.needs[1:]
+    args = "".join(f", a{i}" for i in range(len(needs)))
+    calls = [f"one({k}{args})" for k in range(2, links + 1)]
+    fn = _generated(st.fn.__name__, needs, ["(" + ", ".join(calls) + ",)"], {"one": st.fn})
+    return dataclasses_replace(st, fn=fn, needs=needs)
+
+
 def _sum_step(sums: Mapping[str, str], parts: list[Mapping[str, str]]) -> Step:
     """The step adding each effect's part of each slot (``parts``: each effect's, in
     registration order)."""
     slots = tuple(sums)
     needs_by_slot = [tuple(p[s] for p in parts if s in p) for s in slots]
     needs = tuple(dict.fromkeys(n for ns in needs_by_slot for n in ns))
-    where = [tuple(needs.index(n) for n in ns) for ns in needs_by_slot]
-
-    def _effects(*parts: Any) -> tuple[Any, ...]:
-        out = []
-        for idx in where:
-            total: Any = 0.0
-            for i in idx:
-                total = plus(total, parts[i])
-            out.append(total)
-        return tuple(out)
-
+    totals = []
+    for ns in needs_by_slot:
+        total = "0.0"
+        for n in ns:
+            total = f"plus({total}, a{needs.index(n)})"
+        totals.append(total)
     provides = tuple(sums[s] for s in slots)
     # with no part at all the sums are always zero: one empty group, trivially all zero
     groups: tuple[tuple[str, ...], ...] = (needs,)
-    return Step("_effects", _effects, provides, needs, needs, groups)
+    return Step("_effects", _generated("_effects", needs, totals), provides, needs, needs,
+                groups)
 
 
 def _correction_step(totals: tuple[str, ...],
@@ -559,33 +593,23 @@ def _correction_step(totals: tuple[str, ...],
     """The step adding the corrective effects' corrections to the totals ``t + "_0"``."""
     needs = tuple(t + "_0" for t in totals) + tuple(
         dict.fromkeys(c for cs in corrections for c in cs))
-    where = [tuple(needs.index(c) for c in cs) for cs in corrections]
-
-    def _corrections(*values: Any) -> tuple[Any, ...]:
-        out = []
-        for k, idx in enumerate(where):
-            total = values[k]
-            for i in idx:
-                total = plus(total, values[i])
-            out.append(total)
-        return tuple(out)
-
-    return Step("_corrections", _corrections, totals, needs)
+    out = []
+    for k, cs in enumerate(corrections):
+        total = f"a{k}"
+        for c in cs:
+            total = f"plus({total}, a{needs.index(c)})"
+        out.append(total)
+    return Step("_corrections", _generated("_corrections", needs, out), totals, needs)
 
 
 def _zeros(k: int) -> Callable[..., Any]:
-    def _off() -> Any:
-        """A corrective effect that is off: each of its outputs zero."""
-        return (0.0,) * k if k > 1 else 0.0
-
-    return _off
+    """A corrective effect that is off: each of its ``k`` outputs zero."""
+    return _generated("_off", (), ["0.0"] * k)
 
 
 def _less(k: int) -> Callable[..., Any]:
-    def _torque_for_inertia(total: Any, *parts: Any) -> Any:
-        """The total less each effect's public share (the links' inertia alone)."""
-        for p in parts:
-            total = total - p
-        return total
-
-    return _torque_for_inertia
+    """The total less each effect's public share (the links' inertia alone)."""
+    total = "a0"
+    for i in range(k):
+        total = f"{total} - a{i + 1}"
+    return _generated("_torque_for_inertia", tuple(f"p{i}" for i in range(k + 1)), [total])

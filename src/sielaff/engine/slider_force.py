@@ -18,10 +18,10 @@ def _slider_force_of_position(fex_fn, XB):
     return call_checked("Scene.fex", fex_fn, XB)
 
 
-@step(provides=("slider_loads",), needs=("FEX",), zero_when=("FEX",))
-def _slider_loads(FEX):
-    """FEX on the slider, along +x through B."""
-    return {4: (FEX, 0.0, 0.0)}
+@step(provides=("slider_loads",), needs=("k", "FEX"), zero_when=("FEX",))
+def _slider_loads(k, FEX):
+    """FEX on the slider (link 4), along +x through B; nothing on the other links."""
+    return (FEX, 0.0, 0.0) if k == 4 else (0.0, 0.0, 0.0)
 
 
 EFFECT = Effect("slider force", (step_of(_slider_force_of_position), step_of(_slider_loads)),

@@ -38,7 +38,7 @@ EFFECT = Effect("TEX", (step_of(_external_torque), step_of(_torque_for_tex)),
                                            "program)"),
                          "TORQ_TEX": ("torque", "the part of TORQ the torque TEX on link 4 "
                                                 "takes")},
-                columns=lambda s: ("TORQ_TEX",), compiled=True, in_1966=True,
+                columns=lambda s: ("TORQ_TEX",), in_1966=True,
                 **number_effect("tex", "TEX", "THETA 4", "TEX, torque on link 4 (CCW +)",
                                 "torque", "tex",
                                 "tex = 0.0                     # torque on the rocker, CCW +"))

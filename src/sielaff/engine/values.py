@@ -41,6 +41,13 @@ def check_value(name: str, v: Any) -> Any:
     return float(a) if a.ndim == 0 else a
 
 
+def at(name: str, v: Any, angles: Any) -> Any:
+    """A scene value at the positions ``angles``: ``v(angles)`` checked
+    (:func:`call_checked`) when ``v`` is a function, else ``v`` as floats.  (Compiled for
+    one position it is ``v`` itself: the compiled backend takes no functions.)"""
+    return call_checked(name, v, angles) if callable(v) else np.asarray(v, dtype=float)
+
+
 def call_checked(name: str, fn: Callable[[Any], Any], angles: Any) -> np.ndarray:
     """``fn(angles)`` as a fresh float array, checked like :func:`check_value` wherever
     the angle itself is a number (a position that cannot assemble gives NaN angles)."""

@@ -1,0 +1,37 @@
+"""The three operations the engine's steps use beyond arithmetic and numpy's functions.
+
+A step is written once, for arrays (numpy, in place where the step owns an array) and
+for one position at a time: the compiled backend compiles the same function with ``np``
+standing for one position's arithmetic (:mod:`sielaff.engine.kernel_math`), where
+these three have their one-position forms.  Nothing else in a step may mutate an array
+it did not make, test for arrays, or look at a whole array.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["mod360", "owned", "put"]
+
+
+def owned(x: Any) -> bool:
+    """Whether ``x`` is an array the step may overwrite (``np.sqrt(x, out=x)``); a float
+    (a skipped step's 0.0, or one position) is not."""
+    return isinstance(x, np.ndarray)
+
+
+def put(dst: Any, value: Any, where: Any) -> Any:
+    """``dst`` with ``value`` where ``where`` holds (in place: ``dst`` is the step's own)."""
+    np.copyto(dst, value, where=where)
+    return dst
+
+
+def mod360(x: Any) -> Any:
+    """Angles [deg] reduced modulo 360 into [0, 360), exactly (fmod); angles already there
+    are returned as they are.  A NaN makes min or max NaN, and then every element is
+    reduced (NaN stays NaN, the others as without it)."""
+    if np.size(x) and not (np.min(x) >= 0.0 and np.max(x) < 360.0):
+        return np.mod(x, 360.0)
+    return x

@@ -1,0 +1,300 @@
+"""The compiled kernel, generated from a model's own steps (``backend="numba"``).
+
+In:  a model's plan for the wanted outputs (:meth:`Model.plan`, the very plan the numpy
+     engine runs), and which of the names it starts from are per-position arrays and which
+     are constants.
+Out: one numba loop over the positions that runs, for each position, the plan's steps in
+     order, each step's own function compiled for one position, and writes each wanted
+     output straight into the array returned (no table, no copy).
+
+How one function serves both engines
+    A step is written once, for numpy arrays.  Here its code object is compiled again by
+    numba with its globals rebound: ``np`` to one position's numpy
+    (:func:`sielaff.engine.kernel_math.one_position`: sin, cos and atan2 branch-free and
+    vectorisable, numpy's ``out=`` taken and ignored), the three operations of
+    :mod:`sielaff.engine.arith` and ``statics.plus`` to their one-position forms, and every
+    helper of the package it calls compiled the same way.  A step whose code numba cannot
+    type for one position (an array-only construct, a dictionary of links) has no compiled
+    form: the request is refused in one line naming the step and its effect, so an effect
+    added to a model is compiled, or refused, from its own code.
+
+A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
+an output that depends on the position is NaN where the loop cannot close (the model's
+``counts`` name is NaN there), a skipped step's 0.0 included.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+import types
+from collections.abc import Mapping
+from typing import Any
+
+from sielaff.engine.registry import Model, Plan, Step
+
+__all__ = ["Uncompilable", "kernel_for", "kernel_source"]
+
+_LOCK = threading.RLock()
+_FORMS: dict[Any, Any] = {}
+_ONE: list[Any] = []
+
+
+class Uncompilable(ValueError):
+    """A step of the plan has no one-position form (numba cannot type its code)."""
+
+
+def _one_position() -> tuple[Any, dict[Any, Any]]:
+    if not _ONE:
+        from sielaff.engine.kernel_math import one_position
+
+        _ONE.append(one_position())
+    return _ONE[0]
+
+
+def _names(code: types.CodeType) -> set[str]:
+    out = set(code.co_names)
+    for c in code.co_consts:
+        if isinstance(c, types.CodeType):
+            out |= _names(c)
+    return out
+
+
+def _package_function(v: Any) -> bool:
+    return isinstance(v, types.FunctionType) and (v.__module__ or "").startswith("sielaff.")
+
+
+def scalar_form(fn: Any) -> Any:
+    """``fn`` compiled by numba for one position (see the module's doc); cached."""
+    import numba
+
+    with _LOCK:
+        if fn in _FORMS:
+            return _FORMS[fn]
+        np1, twins = _one_position()
+        if fn in twins:
+            _FORMS[fn] = twins[fn]
+            return twins[fn]
+        glob = dict(fn.__globals__)
+        glob["np"] = np1
+        for name in _names(fn.__code__):
+            v = glob.get(name)
+            if v in twins or _package_function(v):
+                glob[name] = scalar_form(v)
+        if fn.__closure__:
+            raise Uncompilable(f"{fn.__name__} is a closure")
+        f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
+        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline="always")(f)
+        return _FORMS[fn]
+
+
+def _ident(name: str, k: int) -> str:
+    return name if name.isidentifier() and not name.startswith("_k") else f"_k{k}"
+
+
+#: A seed made of records: (its name, the records' type, whether it is one record rather
+#: than a tuple of them, each record's leaves' names), the leaves being scalars or arrays.
+Struct = tuple[str, type, bool, tuple[tuple[str, ...], ...]]
+
+
+def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
+                  scalars: tuple[str, ...], arrays: tuple[str, ...],
+                  structs: tuple[Struct, ...] = ()) -> tuple[str, list[Step]]:
+    """The loop's source for this plan, and the steps it calls (``_s0``, ``_s1``, ...):
+    ``kernel(n, <scalars>, <per-position arrays>, <one output array per wanted name>)``
+    returns how many positions cannot assemble.  A record seed (``structs``) is built
+    from its leaves at each position (``_r0``, ... its type)."""
+    names: dict[str, str] = {}
+
+    def v(name: str) -> str:
+        if name not in names:
+            names[name] = _ident(name, len(names))
+        return names[name]
+
+    seeded = set(scalars) | set(arrays) | {st[0] for st in structs}
+    body: list[str] = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
+    for j, (name, _, single, leaves) in enumerate(structs):
+        records = [f"_r{j}({', '.join(v(x) for x in item)})" for item in leaves]
+        body.append(f"{v(name)} = " + (records[0] if single else
+                                       "(" + ", ".join(records) + ",)"))
+    called: list[Step] = []
+    counted = False
+    for st, skipped, _ in order:
+        if skipped:
+            body += [f"{v(p)} = 0.0" for p in st.provides]
+        else:
+            args = ", ".join(v(n) for n in st.needs)
+            targets = ", ".join(v(p) for p in st.provides)
+            if len(st.provides) > 1:
+                targets = f"({targets},)" if len(st.provides) == 1 else targets
+            body.append(f"{targets} = _s{len(called)}({args})")
+            called.append(st)
+        if model.counts in st.provides and not skipped:
+            counted = True
+            c = v(model.counts)
+            body.append(f"_ok = {c} == {c}")
+            body.append("_bad += _select(_ok, 0, 1)")
+    for j, name in enumerate(wanted):
+        value = v(name)
+        if counted and name not in seeded and model.needs_assembly(name):
+            value = f"_select(_ok, {value}, _NAN)"
+        body.append(f"_out{j}[i] = {value}")
+    params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
+        f"_out{j}" for j in range(len(wanted))]
+    src = "\n".join([f"def kernel({', '.join(params)}):",
+                     "    _bad = 0",
+                     "    for i in range(_n):",
+                     *("        " + line for line in body),
+                     "    return _bad", ""])
+    return src, called
+
+
+def _text(src: str) -> str:
+    from sielaff.engine.kernel_cache import engine_hash
+
+    return ("# generated by sielaff.engine.kernel (see there); do not edit\n"
+            f"# engine {engine_hash()}\n"
+            "import numba\n\n\n"
+            "@numba.njit(error_model='numpy', nogil=True, cache=True)\n" + src)
+
+
+def _name(src: str, salt: str) -> str:
+    """The kernel module's name: a hash of its text and of what the text does not show."""
+    return "sielaff_kernel_" + hashlib.sha256((_text(src) + salt).encode()).hexdigest()[:20]
+
+
+def _cached(name: str) -> bool:
+    """Whether numba's cache holds this kernel's machine code (from an earlier process)."""
+    from sielaff.engine.kernel_cache import kernel_dir
+
+    d = kernel_dir()
+    return d is not None and (d / f"{name}.py").exists() and any(
+        (d / "__pycache__").glob(f"{name}.kernel-*.nbi"))
+
+
+def _type_steps(order: Plan, scalars: tuple[str, ...], arrays: tuple[str, ...],
+                structs: tuple[Struct, ...], effect_of: Mapping[str, str]) -> None:
+    """Each step of the plan compiled for its inputs' types, in order: Uncompilable naming
+    the first that numba cannot type for one position."""
+    import numba
+
+    types_of = _seed_types(scalars, arrays, structs)
+    for st, skipped, _ in order:
+        if skipped:
+            types_of.update(dict.fromkeys(st.provides, numba.float64))
+            continue
+        try:
+            ret = _typed(scalar_form(st.fn), st, [types_of[x] for x in st.needs])
+        except Uncompilable as e:
+            raise Uncompilable(_refusal(st, effect_of, str(e))) from None
+        except Exception as e:  # numba's typing errors: the step has no compiled form
+            raise Uncompilable(_refusal(st, effect_of, type(e).__name__)) from None
+        if len(st.provides) == 1:
+            types_of[st.provides[0]] = ret
+        else:
+            types_of.update(zip(st.provides, ret, strict=True))
+
+
+def _load(src: str, glob: dict[str, Any], name: str) -> Any:
+    """The kernel of ``src`` as a numba dispatcher, from the kernel cache's folder when
+    there is one (engine/kernel_cache.py), else made in memory."""
+    import numba
+
+    from sielaff.engine.kernel_cache import _cached_module, kernel_dir
+
+    text = _text(src)
+    d = kernel_dir()
+    if d is not None:
+        try:
+            return _cached_module(d, name, text, glob).kernel
+        except OSError:  # a cache that cannot be written or read: compile in memory
+            pass
+    ns = dict(glob)
+    exec(compile(src, name, "exec"), ns)  # noqa: S102
+    return numba.njit(error_model="numpy", nogil=True)(ns["kernel"])
+
+
+_KERNELS: dict[Any, Any] = {}
+_LLVM_OPTION = threading.Lock()
+
+
+def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tuple[str, ...],
+               arrays: tuple[str, ...], effect_of: Mapping[str, str],
+               structs: tuple[Struct, ...] = ()) -> Any:
+    """The compiled kernel of ``kernel_source`` (cached per model, plan and seeds'
+    shapes).  Uncompilable (one line: the step, its effect) if a step has no
+    one-position form."""
+    key = (model.name, id(model), order, wanted, scalars, arrays, structs)
+    with _LOCK:
+        if key in _KERNELS:
+            return _KERNELS[key]
+        import math
+
+        import numba
+
+        src, called = kernel_source(model, order, wanted, scalars, arrays, structs)
+        glob: dict[str, Any] = {"_NAN": math.nan}
+        glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
+        from sielaff.engine.kernel_math import _intrinsics
+
+        glob["_select"] = _intrinsics()[0]
+        for j, st in enumerate(called):
+            glob[f"_s{j}"] = scalar_form(st.fn)
+        # what the text does not show: the derived steps' code, the records' types
+        salt = "".join(getattr(st.fn, "__sielaff_source__", st.name) for st in called) + "".join(
+            f"{st[1].__module__}.{st[1].__qualname__}" for st in structs)
+        name = _name(src, salt)
+        if not _cached(name):  # each step typed alone: a refusal names the one that fails
+            _type_steps(order, scalars, arrays, structs, effect_of)
+        kernel = _load(src, glob, name)
+        import llvmlite.binding as llvm
+
+        f64 = numba.float64
+        # inputs typed read-only: a writeable array converts to it, and a read-only one
+        # (a broadcast view) then finds this kernel instead of compiling an unvectorised one
+        ro = numba.types.Array(f64, 1, "C", readonly=True)
+        arr = numba.types.Array(f64, 1, "C")
+
+        # LLVM vectorises the loop only if it may check every pair of arrays for overlap
+        # at run time: its limit on those checks (128) raised while the kernel compiles
+        with _LLVM_OPTION:
+            llvm.set_option("", "-vectorize-memory-check-threshold=100000")
+            try:
+                kernel.compile((numba.types.int64,) + (f64,) * len(scalars)
+                               + (ro,) * len(arrays) + (arr,) * len(wanted))
+            finally:
+                llvm.set_option("", "-vectorize-memory-check-threshold=128")
+        kernel.disable_compile()
+        _KERNELS[key] = kernel
+        return kernel
+
+
+def _seed_types(scalars: tuple[str, ...], arrays: tuple[str, ...],
+                structs: tuple[Struct, ...]) -> dict[str, Any]:
+    """numba's type of each name the kernel starts from, at one position."""
+    import numba
+
+    types_of: dict[str, Any] = dict.fromkeys(scalars + arrays, numba.float64)
+    for name, cls, single, leaves in structs:
+        record = numba.typeof(cls(*([0.0] * len(leaves[0]))))
+        types_of[name] = record if single else numba.types.UniTuple(record, len(leaves))
+    return types_of
+
+
+def _typed(form: Any, st: Step, args: list[Any]) -> Any:
+    """The step compiled for these argument types (its defaults omitted): its return type."""
+    import numba
+
+    n_params = st.fn.__code__.co_argcount
+    defaults = st.fn.__defaults__ or ()
+    omitted = [numba.types.Omitted(d) for d in defaults[len(defaults) - (n_params - len(args)):]
+               ] if n_params > len(args) else []
+    sig = tuple(args) + tuple(omitted)
+    form.compile(sig)
+    return form.overloads[sig].signature.return_type
+
+
+def _refusal(st: Step, effect_of: Mapping[str, str], why: str) -> str:
+    who = effect_of.get(st.name)
+    what = f"{who} (its step {st.name})" if who else f"the step {st.name}"
+    return f"backend='numba' has no compiled form of {what}: use backend='numpy'"
