@@ -1,4 +1,5 @@
-"""An independent solve of the inverted slider-crank and the two six-bars, in mpmath.
+"""An independent solve of the four-bar, the inverted slider-crank and the two six-bars,
+in mpmath.
 
 Trusts nothing of the engine but its conventions (which assembly "open" is, which body
 each reported force acts on).  Positions from the textbook's angle forms (an RRR's link
@@ -72,6 +73,12 @@ def geometry(kind, m, th2, branch=(1, 1)):
         ang["s"] = (d * mp.conj(e(th4))).real  # A's position along link 4 from O4's foot
         return pts, ang
     O4 = mp.mpc(f(m.R1), 0)
+    if kind == "fourbar":  # B on the circles about A and O4, left of A -> O4 when open
+        pts["O4"] = O4
+        B = rrr(pts["A"], O4, f(m.R3), f(m.R4), branch[0])
+        pts["B"] = B
+        ang["3"], ang["4"] = mp.arg(B - pts["A"]), mp.arg(B - O4)
+        return pts, ang
     pts["O4"], pts["O6"] = O4, mp.mpc(f(m.X6), f(m.Y6))
     B = rrr(pts["A"], O4, f(m.R3), f(m.R4), branch[0])
     pts["B"] = B
@@ -88,7 +95,7 @@ def bodies(kind, m):
     def body(k, base):
         get = lambda n: f(getattr(m, f"{n}{k}", 0.0))  # noqa: E731
         return Body(k, base, str(k), get("W"), get("ZI"), get("RG"), get("ADEL"))
-    if kind == "inverted":
+    if kind in ("inverted", "fourbar"):
         return [body(2, "O2"), body(3, "A"), body(4, "O4")]
     if kind == "slider":
         return [body(2, "O2"), body(3, "A"), body(4, "B")]
@@ -101,6 +108,8 @@ def pins(kind):
         return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1)]
     if kind == "slider":
         return [("O2", 2, 1), ("A", 3, 2), ("B", 3, 4)]
+    if kind == "fourbar":
+        return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1), ("B", 3, 4)]
     on = 4 if kind == "watt" else 3
     return [("O2", 2, 1), ("A", 3, 2), ("O4", 4, 1), ("B", 3, 4), ("C", 5, on),
             ("O6", 6, 1), ("D", 5, 6)]

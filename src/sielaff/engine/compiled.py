@@ -16,21 +16,19 @@ none is refused in one line naming it.  The package works without numba: importi
 module does not import numba, and ``backend="numba"`` without it is an ImportError in
 one line naming the ``fast`` extra.
 
-Error bound (against the numpy engine; tests/test_compiled.py)
+Error bound
     The kernel runs the numpy engine's own arithmetic in the same order; it differs only
     in sin, cos and atan2 (branch-free, within 1 and 2 ulp of the correctly rounded value:
-    tests/test_compiled_transcendentals.py) and in mod 360 of crank angles (exact in
-    both).  So each output differs from the numpy engine's by those few ulp carried through
-    the same formulas: at most ``ERROR_BOUND`` (1e-13) times that output's scale (the
-    largest finite magnitude over the call of the outputs of its kind; 360 for angles
-    and directions, compared on the circle), at every position at least
-    ``CONDITION_LIMIT`` from a toggle (``|sin GAMMA| >= 0.25``), and that times
-    ``(0.25 / sin GAMMA) ** CONDITION_POWER[kind]`` nearer (each derivative divides by
-    sin GAMMA once more).  NaN and infinities where the numpy engine has them, but at a
-    toggle to within roundoff.
+    tests/test_compiled_transcendentals.py), hypot (sqrt(x^2 + y^2), within an ulp or two)
+    and in mod 360 of crank angles (exact in both).  Both engines are within the bound
+    derived from the conditioning in :mod:`sielaff.engine.accuracy` (the transmission
+    angle, the link ratios) of the exact answer (tests/test_error_bound.py, against 40
+    digits), and so within twice that of each other (tests/test_compiled.py).  NaN and
+    infinities where the numpy engine has them, but at a toggle to within roundoff.
 
-The kernels of this process are kept (``_KERNELS``) per model, plan and which inputs are
-arrays; the first call of a request compiles its kernel (seconds).
+The kernels are kept per model, plan and which inputs are arrays (engine/kernel.py), in
+this process and in the kernel cache's folder for later ones (engine/kernel_cache.py);
+the first call of a request compiles its kernel (seconds to tens of seconds).
 """
 
 from __future__ import annotations
@@ -43,23 +41,7 @@ import numpy as np
 from sielaff.engine.kernel_math import _BIG_ANGLE, DEGREES
 from sielaff.engine.positions import ASSEMBLY_TOL_EPS
 
-__all__ = ["ASSEMBLY_TOL_EPS", "CONDITION_LIMIT", "CONDITION_POWER", "COVERED_SHORT", "DEGREES",
-           "ERROR_BOUND", "available", "run"]
-
-#: The stated bound: |compiled - numpy| <= ERROR_BOUND * scale of the output (see above).
-ERROR_BOUND = 1e-13
-
-#: The bound is not claimed where the coupler or the rocker is shorter than this fraction
-#: of the longest link (their angles come from differences of points a link apart).
-COVERED_SHORT = 0.05
-
-#: |sin GAMMA| below which a position counts as near a toggle (the bound widens there).
-CONDITION_LIMIT = 0.25
-
-#: Near a toggle the bound is multiplied by (CONDITION_LIMIT / |sin GAMMA|) ** power, the
-#: power by the output's kind: each derivative divides by sin GAMMA once more.
-CONDITION_POWER = {"angle": 2, "rate": 3, "velocity": 3, "angular acceleration": 4,
-                   "acceleration": 4, "force": 6, "torque": 6}
+__all__ = ["ASSEMBLY_TOL_EPS", "DEGREES", "available", "run"]
 
 #: Outputs the kernel does not write: masks (the count is ``not_assembled``).
 NOT_GIVEN = ("ASSEMBLED",)
@@ -157,11 +139,16 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
             take(name, v, name)
             continue
         leaves = []
+        structure = getattr(type(items[0]), "STRUCTURE", ())
         for i, item in enumerate(items):
-            names = tuple(f"{name}__{i}__{f}" for f in item._fields)
-            for leaf, x in zip(names, item, strict=True):
-                take(leaf, x, name)
-            leaves.append(names)
+            names = []
+            for f, x in zip(item._fields, item, strict=True):
+                if f in structure:  # which link: compiled in as a constant
+                    names.append(f"={float(x)!r}")
+                    continue
+                names.append(f"{name}__{i}__{f}")
+                take(names[-1], x, name)
+            leaves.append(tuple(names))
         structs.append((name, type(items[0]), not isinstance(v, list | tuple) or
                         hasattr(v, "_fields"), tuple(leaves)))
     try:

@@ -144,6 +144,12 @@ class ElementValues(NamedTuple):
     c: float
 
 
+# the fields that choose which links and which law, not values: the compiled backend
+# compiles them in as constants (engine/compiled.py; set here, as a NamedTuple body holds
+# only fields)
+setattr(ElementValues, "STRUCTURE", ("spring", "a_link", "b_link"))  # noqa: B010
+
+
 def _values(e: Spring | Damper) -> ElementValues:
     spring = isinstance(e, Spring)
     return ElementValues(1.0 if spring else 0.0, float(e.a[0]), e.a[1], e.a[2], float(e.b[0]),

@@ -93,7 +93,9 @@ def _ident(name: str, k: int) -> str:
 
 
 #: A seed made of records: (its name, the records' type, whether it is one record rather
-#: than a tuple of them, each record's leaves' names), the leaves being scalars or arrays.
+#: than a tuple of them, each record's leaves' names), the leaves being scalars or arrays,
+#: or "=" and a literal for a field of the record type's ``STRUCTURE`` (which link a load
+#: or a spring acts on: code, not data, so LLVM folds the choice of link away).
 Struct = tuple[str, type, bool, tuple[tuple[str, ...], ...]]
 
 
@@ -114,7 +116,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     seeded = set(scalars) | set(arrays) | {st[0] for st in structs}
     body: list[str] = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
     for j, (name, _, single, leaves) in enumerate(structs):
-        records = [f"_r{j}({', '.join(v(x) for x in item)})" for item in leaves]
+        records = [f"_r{j}({', '.join(x[1:] if x[0] == '=' else v(x) for x in item)})"
+                   for item in leaves]
         body.append(f"{v(name)} = " + (records[0] if single else
                                        "(" + ", ".join(records) + ",)"))
     called: list[Step] = []
@@ -256,14 +259,19 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         arr = numba.types.Array(f64, 1, "C")
 
         # LLVM vectorises the loop only if it may check every pair of arrays for overlap
-        # at run time: its limit on those checks (128) raised while the kernel compiles
+        # at run time (its limit on those checks, 128, raised while the kernel compiles)
+        # and if the loops over a scene's loads, springs and dampers are unrolled (a loop
+        # over a tuple of records indexes it at run time; its body is large, so the limit
+        # on a full unroll's size is raised too, then set back to O3's 300)
         with _LLVM_OPTION:
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
+            llvm.set_option("", "-unroll-threshold=100000")
             try:
                 kernel.compile((numba.types.int64,) + (f64,) * len(scalars)
                                + (ro,) * len(arrays) + (arr,) * len(wanted))
             finally:
                 llvm.set_option("", "-vectorize-memory-check-threshold=128")
+                llvm.set_option("", "-unroll-threshold=300")
         kernel.disable_compile()
         _KERNELS[key] = kernel
         return kernel

@@ -235,6 +235,10 @@ def _np_mod(x, y):
     return _mod360(x) if y == 360.0 else x - y * _floor(x / y)
 
 
+def _np_hypot(x, y):  # within an ulp or two of libm's; no call, so the loop vectorises
+    return math.sqrt(x * x + y * y)
+
+
 def _np_where(c, a, b):
     return _select(c, a, b)
 
@@ -279,11 +283,11 @@ def _plus_one(a, b):  # statics.plus: a skipped step's 0.0 is the literal 0.0 he
 _ONE_POSITION = {"sin": _np_sin, "cos": _np_cos, "arctan2": _np_arctan2, "sqrt": _np_sqrt,
                  "negative": _np_negative, "subtract": _np_subtract, "divide": _np_divide,
                  "add": _np_add, "maximum": _np_maximum, "mod": _np_mod, "where": _np_where,
-                 "abs": _np_abs, "asarray": _np_same, "max": _np_same, "min": _np_same,
-                 "ndim": _np_ndim, "size": _np_size, "any": _np_any}
+                 "abs": _np_abs, "hypot": _np_hypot, "asarray": _np_same, "max": _np_same,
+                 "min": _np_same, "ndim": _np_ndim, "size": _np_size, "any": _np_any}
 #: numba's own one-position forms of these numpy names
-_NUMBA_OWN = ("radians", "degrees", "isnan", "isfinite", "exp2", "log2", "round", "hypot",
-              "sign", "nan", "inf", "pi", "float64")
+_NUMBA_OWN = ("radians", "degrees", "isnan", "isfinite", "exp2", "log2", "round", "sign",
+              "nan", "inf", "pi", "float64")
 
 
 def one_position():

@@ -79,6 +79,11 @@ class LoadValues(NamedTuple):
     torque: Any
 
 
+# the field that chooses which link, not a value: the compiled backend compiles it in as
+# a constant (engine/compiled.py; set here, as a NamedTuple body holds only fields)
+setattr(LoadValues, "STRUCTURE", ("link",))  # noqa: B010
+
+
 @step(provides=("external_loads",), needs=("k", "loads", "NLOADS", "ATH2", "links"),
       zero_when=("NLOADS",))
 def _loads(k, loads, NLOADS, ATH2, links):
