@@ -493,6 +493,22 @@ def test_uncovered_effects_refused_in_one_line(scene, output, match):
     assert "\n" not in str(e.value)
 
 
+def test_every_other_kind_is_refused_in_one_line_naming_its_model():
+    """The slider-cranks' and six-bars' steps (a linkage of dyads, engine/linkage_model.py)
+    have no one-position form yet: each kind is refused in one line naming its model."""
+    from sielaff.engine.analysis import MODELS
+    from sielaff.inverted_slider_crank import INVERTED_EXAMPLE
+    from sielaff.sixbar import STEPHENSON_EXAMPLE, WATT_EXAMPLE
+    from sielaff.slider_crank import SLIDER_EXAMPLE
+
+    kinds = (SLIDER_EXAMPLE, INVERTED_EXAMPLE, WATT_EXAMPLE, STEPHENSON_EXAMPLE)
+    assert len(kinds) == len(MODELS) - 1  # every model but the four-bar's
+    for m in kinds:
+        with pytest.raises(ValueError, match="has no compiled form of the .* model") as e:
+            analyze(m, np.linspace(0.0, 360.0, 5), backend="numba")
+        assert "\n" not in str(e.value)
+
+
 def test_analyze_dispatch_writes_into_out_and_matches():
     """``analyze(..., backend="numba")`` asks the kernel for the wanted names only and
     writes straight into ``out=`` (any shape of crank angles), every effect covered."""

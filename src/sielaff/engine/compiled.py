@@ -63,11 +63,11 @@ def _effect_of(model: Any) -> dict[str, str]:
 
 
 def _seed_owner(req: Any, name: str) -> str:
-    """The effect whose seed ``name`` is (what a refusal names), or the name itself."""
+    """The effect whose seed ``name`` is, or the model's (what a refusal names)."""
     for e in req.model.effects:
         if name in e.seed(req.scene, req.mechanism):
             return e.name
-    return name
+    return f"the {req.model.name} model (its input {name})"
 
 
 def _records(v: Any) -> list[Any] | None:

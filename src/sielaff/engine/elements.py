@@ -180,8 +180,8 @@ def _element(e, links, rates):
     return pax, pay, pbx, pby, length, rate, tension, ux, uy
 
 
-@step(provides=("element_loads",), needs=("k", "elements", "NELEMENTS", "links", "link_rates"),
-      zero_when=("NELEMENTS",))
+@step(provides=("element_loads",), needs=("elements", "NELEMENTS", "links", "link_rates"),
+      zero_when=("NELEMENTS",), per_link=True)
 def _elements(k, elements, NELEMENTS, links, link_rates):
     """The elements' pulls on their points on link k, summed (a point on the frame passes
     its force to the ground)."""

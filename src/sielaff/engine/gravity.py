@@ -15,8 +15,8 @@ from sielaff.engine.values import LIMIT
 from sielaff.mechanism import STANDARD_GRAVITY
 
 
-@step(provides=("gravity_loads",), needs=("k", "GX", "GY", "GW", "links"),
-      zero_when=("GX", "GY"))
+@step(provides=("gravity_loads",), needs=("GX", "GY", "GW", "links"), zero_when=("GX", "GY"),
+      per_link=True)
 def _gravity(k, GX, GY, GW, links):
     """Link k's weight m g at its centre of mass, as a force and its moment about the
     link's base point (m = W / GW: the W fields are weights in the report's system, masses

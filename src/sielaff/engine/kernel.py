@@ -26,6 +26,7 @@ an output that depends on the position is NaN where the loop cannot close (the m
 from __future__ import annotations
 
 import hashlib
+import keyword
 import threading
 import types
 from collections.abc import Mapping
@@ -89,7 +90,9 @@ def scalar_form(fn: Any) -> Any:
 
 
 def _ident(name: str, k: int) -> str:
-    return name if name.isidentifier() and not name.startswith("_k") else f"_k{k}"
+    """``name`` as the kernel's local variable (a stand-in where it cannot be one)."""
+    usable = name.isidentifier() and not keyword.iskeyword(name) and not name.startswith("_")
+    return name if usable else f"_k{k}"
 
 
 #: A seed made of records: (its name, the records' type, whether it is one record rather
@@ -304,5 +307,5 @@ def _typed(form: Any, st: Step, args: list[Any]) -> Any:
 
 def _refusal(st: Step, effect_of: Mapping[str, str], why: str) -> str:
     who = effect_of.get(st.name)
-    what = f"{who} (its step {st.name})" if who else f"the step {st.name}"
+    what = f"{who} (its step {st.name})" if who else f"the model's step {st.name}"
     return f"backend='numba' has no compiled form of {what}: use backend='numpy'"

@@ -84,8 +84,8 @@ class LoadValues(NamedTuple):
 setattr(LoadValues, "STRUCTURE", ("link",))  # noqa: B010
 
 
-@step(provides=("external_loads",), needs=("k", "loads", "NLOADS", "ATH2", "links"),
-      zero_when=("NLOADS",))
+@step(provides=("external_loads",), needs=("loads", "NLOADS", "ATH2", "links"),
+      zero_when=("NLOADS",), per_link=True)
 def _loads(k, loads, NLOADS, ATH2, links):
     """The loads on link k summed: each force and its moment about the link's base point,
     plus the pure torques."""

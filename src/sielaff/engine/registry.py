@@ -47,6 +47,7 @@ class Step:
     needs: tuple[str, ...]
     zero_when: tuple[str, ...] = ()  # every name any group below uses
     zero_groups: tuple[tuple[str, ...], ...] = ()  # zero if all of one group are zero
+    per_link: bool = False  # written for one link: fn(k, *needs), k the link's number
 
 
 def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
@@ -57,7 +58,8 @@ def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
 
 
 def step(provides: Iterable[str], needs: Iterable[str] = (),
-         zero_when: Iterable[Any] = ()) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+         zero_when: Iterable[Any] = (), per_link: bool = False
+         ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Mark the decorated function as a step (``steps_of`` finds it; a model adds it).
 
     The function's parameters must be exactly ``needs`` (so the declaration can be
@@ -66,17 +68,20 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     every provided value zero; or a list of such groups (tuples), any one of which all
     zero suffices (a link's inertia force is zero if it has no mass *or* its centre of
     mass does not accelerate).  A step never changes its inputs (tests run the engine on
-    read-only arrays).
+    read-only arrays).  ``per_link``: the function is written for one link, its first
+    parameter the link's number (not a need); the model calls it for each moving link
+    and the step provides the tuple of their answers (:func:`per_link`).
     """
     provides, needs = tuple(provides), tuple(needs)
     groups = _groups(zero_when)
     flat = tuple(dict.fromkeys(n for g in groups for n in g))
 
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
-        params = tuple(inspect.signature(fn).parameters)
+        params = tuple(inspect.signature(fn).parameters)[1 if per_link else 0:]
         if params != needs:
             raise TypeError(f"step {fn.__name__}: parameters {params} != needs {needs}")
-        fn.__sielaff_step__ = Step(fn.__name__, fn, provides, needs, flat, groups)  # type: ignore[attr-defined]
+        fn.__sielaff_step__ = Step(fn.__name__, fn, provides, needs, flat, groups,  # type: ignore[attr-defined]
+                                   per_link)
         return fn
 
     return decorate
@@ -557,16 +562,16 @@ def _generated(name: str, params: tuple[str, ...], returns: list[str],
 
 
 def per_link(st: Step, links: int) -> Step:
-    """A step written for one link (its first parameter ``k``, the link's number) as the
-    step giving one value for each moving link, 2 to ``links``, in order (an effect's loads
-    on the links); any other step as it is."""
-    if not st.needs or st.needs[0] != "k":
+    """A step written for one link (``Step.per_link``: its first parameter the link's
+    number) as the step giving one value for each moving link, 2 to ``links``, in order
+    (an effect's loads on the links); any other step as it is."""
+    if not st.per_link:
         return st
-    needs = st.needs[1:]
-    args = "".join(f", a{i}" for i in range(len(needs)))
+    args = "".join(f", a{i}" for i in range(len(st.needs)))
     calls = [f"one({k}{args})" for k in range(2, links + 1)]
-    fn = _generated(st.fn.__name__, needs, ["(" + ", ".join(calls) + ",)"], {"one": st.fn})
-    return dataclasses_replace(st, fn=fn, needs=needs)
+    fn = _generated(st.fn.__name__, st.needs, ["(" + ", ".join(calls) + ",)"],
+                    {"one": st.fn})
+    return dataclasses_replace(st, fn=fn, per_link=False)
 
 
 def _sum_step(sums: Mapping[str, str], parts: list[Mapping[str, str]]) -> Step:

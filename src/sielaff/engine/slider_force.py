@@ -18,7 +18,7 @@ def _slider_force_of_position(fex_fn, XB):
     return call_checked("Scene.fex", fex_fn, XB)
 
 
-@step(provides=("slider_loads",), needs=("k", "FEX"), zero_when=("FEX",))
+@step(provides=("slider_loads",), needs=("FEX",), zero_when=("FEX",), per_link=True)
 def _slider_loads(k, FEX):
     """FEX on the slider (link 4), along +x through B; nothing on the other links."""
     return (FEX, 0.0, 0.0) if k == 4 else (0.0, 0.0, 0.0)
