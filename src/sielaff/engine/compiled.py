@@ -38,10 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.engine.kernel_math import _BIG_ANGLE, DEGREES
-from sielaff.engine.positions import ASSEMBLY_TOL_EPS
+from sielaff.engine.kernel_math import _BIG_ANGLE
 
-__all__ = ["ASSEMBLY_TOL_EPS", "DEGREES", "available", "run"]
+__all__ = ["available", "run"]
 
 #: Outputs the kernel does not write: masks (the count is ``not_assembled``).
 NOT_GIVEN = ("ASSEMBLED",)

@@ -15,9 +15,6 @@ import math
 
 import numpy as np
 
-EPS = float(np.finfo(float).eps)
-DEGREES = 180.0 / math.pi  # what np.degrees multiplies by
-RADIANS = math.pi / 180.0  # what np.radians multiplies by
 _BIG_ANGLE = 2.0**50  # past this, x - 360 floor(x / 360) is no longer exact
 
 # --- the branch-free transcendentals --------------------------------------------------

@@ -19,7 +19,7 @@ _DEGREES = 180.0 / np.pi  # what np.degrees multiplies by
 
 #: A linear factor of Heron's product (a length) below -ASSEMBLY_TOL_EPS eps (R1+R2+R3+R4)
 #: means the loop cannot close; between that and 0 it is a toggle reached with roundoff.
-#: The compiled backend and ``classify`` ask this one constant.
+#: The dyads of every other linkage (dyads.py) ask this one constant too.
 ASSEMBLY_TOL_EPS = 8.0
 
 
