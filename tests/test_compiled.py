@@ -493,10 +493,12 @@ def test_uncovered_effects_refused_in_one_line(scene, output, match):
     assert "\n" not in str(e.value)
 
 
-def test_every_other_kind_is_refused_in_one_line_naming_its_model():
-    """The slider-cranks' and six-bars' steps (a linkage of dyads, engine/linkage_model.py)
-    have no one-position form yet: each kind is refused in one line naming its model."""
-    from sielaff.engine.analysis import MODELS
+def test_pin_friction_on_every_other_kind_is_refused_in_one_line_naming_it():
+    """The other kinds compile (tests/test_compiled_kinds.py) but for their pin friction,
+    whose Newton solve has no one-position form: refused in one line naming the effect."""
+    from sielaff import PinFriction
+    from sielaff.engine.analysis import MODELS, model_for
+    from sielaff.engine.scene import scene_type
     from sielaff.inverted_slider_crank import INVERTED_EXAMPLE
     from sielaff.sixbar import STEPHENSON_EXAMPLE, WATT_EXAMPLE
     from sielaff.slider_crank import SLIDER_EXAMPLE
@@ -504,8 +506,10 @@ def test_every_other_kind_is_refused_in_one_line_naming_its_model():
     kinds = (SLIDER_EXAMPLE, INVERTED_EXAMPLE, WATT_EXAMPLE, STEPHENSON_EXAMPLE)
     assert len(kinds) == len(MODELS) - 1  # every model but the four-bar's
     for m in kinds:
-        with pytest.raises(ValueError, match="has no compiled form of the .* model") as e:
-            analyze(m, np.linspace(0.0, 360.0, 5), backend="numba")
+        scene = scene_type(model_for(m))(friction=PinFriction(0.1, 0.5))
+        with pytest.raises(ValueError, match="has no compiled form of joint friction "
+                                             r"\(its step _joint_friction\)") as e:
+            analyze(m, np.linspace(0.0, 360.0, 5), ["TORQ"], scene=scene, backend="numba")
         assert "\n" not in str(e.value)
 
 

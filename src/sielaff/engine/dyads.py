@@ -79,7 +79,7 @@ class Positions:
     gamma: dict[str, tuple[Any, Any]] = field(default_factory=dict)
     margin: Any = 1.0
     margins: list[Any] = field(default_factory=list)
-    scale: float = 1.0
+    scale: Any = 1.0
 
 
 @dataclass
@@ -149,7 +149,7 @@ def positions(topology: Topology, v: dict[str, Any], c2: Any, s2: Any,
     pos.pt[topology.crank.pin] = (r2 * c2, r2 * s2)
     _add_points(topology, pos, v, 2)
     margins = []
-    scale = float(np.max(np.abs(r2)))
+    scale = np.max(np.abs(r2))
     for i, d in enumerate(topology.dyads):
         n, sign = 3 + 2 * i, branches[i]
         if isinstance(d, RRR):
@@ -165,7 +165,7 @@ def positions(topology: Topology, v: dict[str, Any], c2: Any, s2: Any,
         pos.margin = np.minimum(pos.margin, m)
     pos.margins = margins
     for x in topology.lengths():
-        scale = max(scale, float(np.max(np.abs(v[x]))))
+        scale = np.maximum(scale, np.max(np.abs(v[x])))
     pos.scale = scale
     return pos
 

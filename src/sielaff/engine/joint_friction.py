@@ -46,6 +46,7 @@ from sielaff.engine.friction import (
 )
 from sielaff.engine.friction import per_joint as per_joint_of
 from sielaff.engine.registry import Effect, Step
+from sielaff.engine.unroll import structured
 from sielaff.linkage import Topology
 
 __all__ = ["RAMP", "effect"]
@@ -94,6 +95,7 @@ def effect(topology: Topology, rename: Any) -> Effect:
     def _friction(pos: Any, vel: Any, friction_tol: Any, *args: Any) -> Any:
         mu = args[:len(seeds)]
         x0 = args[len(seeds):]
+        pos, vel = structured(topology, "pos", pos), structured(topology, "vel", vel)
         return solve(topology, pos, vel, mu, x0, friction_tol, pins, slides)
 
     provides = tuple(s + "_f" for s in slot_names[:-1]) + ("TORQ_FRICTION",) + losses + (

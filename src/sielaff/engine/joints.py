@@ -23,10 +23,11 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.dyads import Positions
+from sielaff.engine.unroll import call
 from sielaff.linkage import PRR, RRP, RRR, Topology
 
-__all__ = ["Joint", "Slide", "joints", "load_rows", "matrix", "owner", "solve", "slots",
-           "unscale"]
+__all__ = ["Joint", "Slide", "entries", "joints", "linear", "matrix", "owner", "solve",
+           "slots"]
 
 
 @dataclass(frozen=True)
@@ -104,17 +105,14 @@ def slots(topology: Topology) -> tuple[str, ...]:
 _NONE = (0.0, 0.0, 0.0)
 
 
-def matrix(topology: Topology, pos: Positions, shape: tuple[int, ...] = ()
-           ) -> tuple[np.ndarray, float]:
-    """The system's matrix at the positions ``pos`` (of shape ``shape`` at least) and the
-    length scale L its moment rows are divided by (couples and TORQ are solved in it)."""
+def entries(topology: Topology, pos: Positions) -> tuple[list[list[Any]], Any]:
+    """The system's matrix at the positions ``pos``, as rows of numbers or arrays (an
+    entry no unknown touches the constant 0.0), and the length scale L its moment rows
+    are divided by (couples and TORQ are solved in it)."""
     pins, slides = joints(topology)
-    links = topology.links
-    size = 3 * (links - 1)
-    shape = np.broadcast_shapes(shape, *(np.shape(x) for link in pos.link.values()
-                                         for x in link))
-    L = pos.scale if pos.scale > 0.0 else 1.0
-    A = np.zeros(shape + (size, size))
+    size = 3 * (topology.links - 1)
+    L = np.where(pos.scale > 0.0, pos.scale, 1.0)
+    A: list[list[Any]] = [[0.0] * size for _ in range(size)]
 
     def add_force(col: int, k: int, fx: Any, fy: Any, at: tuple[Any, Any], sign: float,
                   couple: Any = 0.0) -> None:
@@ -123,9 +121,10 @@ def matrix(topology: Topology, pos: Positions, shape: tuple[int, ...] = ()
             return
         row = 3 * (k - 2)
         _, _, bx, by = pos.link[k]
-        A[..., row, col] += sign * fx
-        A[..., row + 1, col] += sign * fy
-        A[..., row + 2, col] += sign * (((at[0] - bx) * fy - (at[1] - by) * fx) / L + couple)
+        A[row][col] = A[row][col] + sign * fx
+        A[row + 1][col] = A[row + 1][col] + sign * fy
+        A[row + 2][col] = A[row + 2][col] + sign * (
+            ((at[0] - bx) * fy - (at[1] - by) * fx) / L + couple)
 
     col = 0
     for j in pins:
@@ -143,41 +142,60 @@ def matrix(topology: Topology, pos: Positions, shape: tuple[int, ...] = ()
         add_force(col + 1, s.slider, 0.0, 0.0, at, 1.0, 1.0)
         add_force(col + 1, s.guide, 0.0, 0.0, at, -1.0, 1.0)
         col += 2
-    A[..., 2, col] += 1.0  # the drive's torque on the crank (link 2's moment row)
+    A[2][col] = A[2][col] + 1.0  # the drive's torque on the crank (link 2's moment row)
     return A, L
 
 
-def load_rows(topology: Topology, loads: dict[int, tuple[Any, Any, Any]], L: float,
-              shape: tuple[int, ...]) -> np.ndarray:
-    """The applied loads as the system's rows (force x, y and moment / L per link)."""
-    b = np.zeros(shape + (3 * (topology.links - 1),))
+def _array(rows: list[list[Any]] | tuple[Any, ...], shape: tuple[int, ...] = ()) -> np.ndarray:
+    """Rows of numbers or arrays as one array (the rows' shape broadcast with ``shape``,
+    then the rows' axes)."""
+    shape = np.broadcast_shapes(shape, *(np.shape(v) for r in rows for v in r))
+    A = np.zeros(shape + (len(rows), len(rows[0])))
+    for i, r in enumerate(rows):
+        for j, v in enumerate(r):
+            if not (isinstance(v, float) and v == 0.0):
+                A[..., i, j] = v
+    return A
+
+
+def matrix(topology: Topology, pos: Positions, shape: tuple[int, ...] = ()
+           ) -> tuple[np.ndarray, Any]:
+    """The system's matrix at the positions ``pos`` (of shape ``shape`` at least) and the
+    length scale L its moment rows are divided by (couples and TORQ are solved in it)."""
+    rows, L = entries(topology, pos)
+    return _array(rows, shape), L
+
+
+def linear(rows: Any, rhs: Any) -> tuple[Any, ...]:
+    """x with A x = rhs at each position, A's ``rows`` and ``rhs`` numbers or arrays;
+    NaN where A is not finite or singular.  (The compiled backend's one-position form:
+    engine/kernel_math.py.)"""
+    b = _array((rhs,))[..., 0, :]
+    A = _array(rows, b.shape[:-1])
+    b = np.broadcast_to(b, A.shape[:-1])
+    x = _solve(A, b)
+    return tuple(x[..., i] for i in range(x.shape[-1]))
+
+
+def solve(topology: Topology, loads: dict[int, tuple[Any, Any, Any]],
+          pos: Positions) -> tuple[Any, ...]:
+    """The slots (:func:`slots`) for the applied ``loads`` at the positions ``pos``: the
+    force and moment balances' rows (:func:`entries`) solved for the loads' rows (force
+    x, y and moment / L per link) by :func:`linear`, the couples and TORQ back from the
+    scale L."""
+    rows, L = entries(topology, pos)
+    rhs: list[Any] = []
     for k in range(2, topology.links + 1):
         fx, fy, m = loads.get(k, _NONE)
-        row = 3 * (k - 2)
-        b[..., row] += fx
-        b[..., row + 1] += fy
-        b[..., row + 2] += np.asarray(m) / L
-    return b
-
-
-def unscale(topology: Topology, x: np.ndarray, L: float) -> tuple[Any, ...]:
-    """The slots from the solved unknowns: the couples and TORQ back from scale L."""
+        rhs += [-(0.0 + fx), -(0.0 + fy), -(0.0 + m / L)]
+    x = call(linear, len(rhs), rows, rhs)
     pins, slides = joints(topology)
-    out = [x[..., i] for i in range(x.shape[-1])]
+    out = [x[i] for i in range(len(rhs))]
     n_pin = 2 * len(pins)
     for i in range(n_pin + 1, n_pin + 2 * len(slides), 2):  # the couples and TORQ: in scale
         out[i] = out[i] * L
     out[-1] = out[-1] * L
     return tuple(out)
-
-
-def solve(topology: Topology, loads: dict[int, tuple[Any, Any, Any]],
-          pos: Positions) -> tuple[Any, ...]:
-    """The slots (:func:`slots`) for the applied ``loads`` at the positions ``pos``."""
-    shape = np.broadcast_shapes(*(np.shape(x) for f in loads.values() for x in f))
-    A, L = matrix(topology, pos, shape)
-    b = load_rows(topology, loads, L, A.shape[:-2])
-    return unscale(topology, _solve(A, -b), L)
 
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:

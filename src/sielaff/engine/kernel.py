@@ -39,6 +39,8 @@ __all__ = ["Uncompilable", "kernel_for", "kernel_source"]
 _LOCK = threading.RLock()
 _FORMS: dict[Any, Any] = {}
 _ONE: list[Any] = []
+_BUSY: set[Any] = set()
+_MAX_INLINED_ARGS = 30  # CPython's STACK_USE_GUIDELINE
 
 
 class Uncompilable(ValueError):
@@ -76,16 +78,25 @@ def scalar_form(fn: Any) -> Any:
         if fn in twins:
             _FORMS[fn] = twins[fn]
             return twins[fn]
-        glob = dict(fn.__globals__)
-        glob["np"] = np1
-        for name in _names(fn.__code__):
-            v = glob.get(name)
-            if v in twins or _package_function(v):
-                glob[name] = scalar_form(v)
         if fn.__closure__:
             raise Uncompilable(f"{fn.__name__} is a closure")
+        if fn in _BUSY:
+            raise Uncompilable(f"{fn.__name__} calls itself")
+        glob = dict(fn.__globals__)
+        glob["np"] = np1
+        _BUSY.add(fn)
+        try:
+            for name in _names(fn.__code__):
+                v = glob.get(name)
+                if isinstance(v, types.FunctionType) and (v in twins or _package_function(v)):
+                    glob[name] = scalar_form(v)
+        finally:
+            _BUSY.discard(fn)
         f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
-        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline="always")(f)
+        # a call of more than 30 arguments is compiled by CPython as f(*args), which
+        # numba's inliner refuses: such a step is called (LLVM may still inline it)
+        inline = "always" if fn.__code__.co_argcount <= _MAX_INLINED_ARGS else "never"
+        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline=inline)(f)
         return _FORMS[fn]
 
 
@@ -244,8 +255,12 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         from sielaff.engine.kernel_math import _intrinsics
 
         glob["_select"] = _intrinsics()[0]
-        for j, st in enumerate(called):
-            glob[f"_s{j}"] = scalar_form(st.fn)
+        try:
+            for j, st in enumerate(called):
+                glob[f"_s{j}"] = scalar_form(st.fn)
+        except Uncompilable:  # the refusal names the step and its effect
+            _type_steps(order, scalars, arrays, structs, effect_of)
+            raise
         # what the text does not show: the derived steps' code, the records' types
         salt = "".join(getattr(st.fn, "__sielaff_source__", st.name) for st in called) + "".join(
             f"{st[1].__module__}.{st[1].__qualname__}" for st in structs)

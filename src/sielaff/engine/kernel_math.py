@@ -228,6 +228,10 @@ def _np_maximum(a, b, out=None):
     return _select((a >= b) | (a != a), a, b)  # NaN propagates, as numpy's
 
 
+def _np_minimum(a, b, out=None):
+    return _select((a <= b) | (a != a), a, b)  # NaN propagates, as numpy's
+
+
 def _np_mod(x, y):
     return _mod360(x) if y == 360.0 else x - y * _floor(x / y)
 
@@ -276,10 +280,52 @@ def _plus_one(a, b):  # statics.plus: a skipped step's 0.0 is the literal 0.0 he
     return a + b
 
 
+def _linear_one(rows, rhs):  # joints.linear: Gaussian elimination, partial pivoting
+    n = len(rhs)
+    a = np.empty((n, n + 1))
+    finite = True
+    for i in range(n):
+        r = rows[i]
+        for j in range(n):
+            a[i, j] = r[j]
+            finite &= math.isfinite(r[j])
+        a[i, n] = rhs[i]
+        finite &= math.isfinite(rhs[i])
+    x = np.empty(n)
+    for k in range(n):
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                p, big = i, abs(a[i, k])
+        if big == 0.0:  # exactly singular (a toggle): NaN, as LAPACK's refusal
+            finite = False
+            big = 1.0
+            a[p, k] = 1.0
+        if p != k:
+            for j in range(k, n + 1):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+        inv = 1.0 / a[k, k]
+        for i in range(k + 1, n):
+            f = a[i, k] * inv
+            if f != 0.0:
+                for j in range(k + 1, n + 1):
+                    a[i, j] -= f * a[k, j]
+    for i in range(n - 1, -1, -1):
+        t = a[i, n]
+        for j in range(i + 1, n):
+            t -= a[i, j] * x[j]
+        x[i] = t / a[i, i]
+    if not finite:
+        x[:] = np.nan
+    return x
+
+
 #: numpy's names for one position, each the function above (the rest are numba's own)
 _ONE_POSITION = {"sin": _np_sin, "cos": _np_cos, "arctan2": _np_arctan2, "sqrt": _np_sqrt,
                  "negative": _np_negative, "subtract": _np_subtract, "divide": _np_divide,
-                 "add": _np_add, "maximum": _np_maximum, "mod": _np_mod, "where": _np_where,
+                 "add": _np_add, "maximum": _np_maximum, "minimum": _np_minimum,
+                 "mod": _np_mod, "where": _np_where,
                  "abs": _np_abs, "hypot": _np_hypot, "asarray": _np_same, "max": _np_same,
                  "min": _np_same, "ndim": _np_ndim, "size": _np_size, "any": _np_any}
 #: numba's own one-position forms of these numpy names
@@ -294,7 +340,7 @@ def one_position():
 
     import numba
 
-    from sielaff.engine import arith, statics, values
+    from sielaff.engine import arith, joints, statics, values
 
     jit = numba.njit(error_model="numpy", nogil=True, inline="always")
     glob = dict(globals())
@@ -311,7 +357,7 @@ def one_position():
     for name, f in _ONE_POSITION.items():
         setattr(ns, name, jit(types.FunctionType(f.__code__, glob, f.__name__, f.__defaults__)))
     twins = {arith.owned: _owned, arith.put: _put_one, arith.mod360: _mod360,
-             statics.plus: _plus_one, values.at: _at_one}
+             statics.plus: _plus_one, values.at: _at_one, joints.linear: _linear_one}
     forms = {k: compiled.get(f.__name__) or jit(types.FunctionType(f.__code__, glob, f.__name__))
              for k, f in twins.items()}
     return ns, forms

@@ -26,10 +26,17 @@ from sielaff.engine.links import FRAME, FRAME_RATE, Link, LinkRate
 from sielaff.engine.outputs import _direction, _magnitude
 from sielaff.engine.positions import _angle_deg, _crank_angle
 from sielaff.engine.registry import Model, Step, step_of
+from sielaff.engine.unroll import Untraceable, call, keep, nested, unrolled
 from sielaff.linkage import RPR, RRR, Topology
 from sielaff.mechanism import MASS_DIVISOR
 
 __all__ = ["BRANCHES", "finish", "friction_effect", "kind_model", "linkage_model"]
+
+#: The values passed between steps as the flat tuples of their numbers (engine/unroll.py).
+_FLAT = frozenset(("pos", "vel", "acc"))
+#: The skeletons of each topology's positions and rates (what the effects that read
+#: them, pin friction, rebuild them from).
+_SKELETONS: dict[Topology, dict[str, Any]] = {}
 
 #: Each dyad's assembly: "open" (+1) or "crossed" (-1) (sielaff.linkage says which is which).
 BRANCHES = ("open", "crossed")
@@ -93,12 +100,27 @@ class _Builder:
         self.rename = _renamer(topology)
         self.steps: list[Step] = []
         self.declared: dict[str, tuple[str, str]] = {}
+        #: the skeleton of each input passed as a tuple (engine/unroll.py)
+        self.skeletons: dict[str, Any] = {}
 
     def add(self, name: str, fn: Callable[..., Any], provides: tuple[str, ...],
             needs: tuple[str, ...], zero_when: tuple[str, ...] = ()) -> None:
+        """The step ``fn``, unrolled (engine/unroll.py): its structured inputs and
+        results (the positions, the rates) passed as flat tuples, their skeletons kept
+        here; a step that cannot be unrolled is kept as written (numpy runs it, the
+        compiled backend refuses it naming it)."""
         groups = (zero_when,) if zero_when else ()
+        inputs = [self.skeletons.get(n) for n in needs]
+        flat = [n in _FLAT for n in provides]
         if len(provides) == 1:  # a step of one output returns it bare
             fn = _bare(fn)
+        try:
+            fn, made = unrolled(name, fn, inputs, len(provides), flat)
+        except Untraceable:
+            pass
+        else:
+            self.skeletons.update({n: sk for n, sk in zip(provides, made, strict=True)
+                                   if sk is not None})
         self.steps.append(Step(name, fn, provides, needs, zero_when, groups))
 
     def out(self, generic: str, kind: str, meaning: str) -> str:
@@ -112,8 +134,8 @@ class _Builder:
         x = self.out(generic + "X", kind, f"x component of the {meaning}")
         y = self.out(generic + "Y", kind, f"y component of the {meaning}")
         d = self.out("D" + generic, "angle", f"direction of the {meaning}, CCW from +x")
-        self.add(f"_magnitude_{mag}", _magnitude, (mag,), (x, y))
-        self.add(f"_direction_{mag}", _direction, (d,), (x, y))
+        self.steps.append(Step(f"_magnitude_{mag}", _magnitude, (mag,), (x, y)))
+        self.steps.append(Step(f"_direction_{mag}", _direction, (d,), (x, y)))
         return mag, d, x, y
 
 
@@ -133,11 +155,13 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
     points = _moving_points(topology)
     pins, slides = joints.joints(topology)
 
-    def _positions(c2: Any, s2: Any, BRANCH: Any, *values: Any) -> Any:
-        pos = dyads.positions(topology, dict(zip(geometry, values, strict=True)), c2, s2,
-                              BRANCH)
+    branches = tuple(f"BRANCH{i + 1}" for i in range(dyads_n))
+
+    def _positions(c2: Any, s2: Any, *values: Any) -> Any:
+        pos = dyads.positions(topology, dict(zip(geometry, values[dyads_n:], strict=True)),
+                              c2, s2, values[:dyads_n])
         return pos, pos.margin + 0.0 * c2
-    b.add("_positions", _positions, ("pos", "margin"), ("c2", "s2", "BRANCH") + geometry)
+    b.add("_positions", _positions, ("pos", "margin"), ("c2", "s2") + branches + geometry)
 
     def _velocities(pos: Any, TH2D: Any) -> Any:
         return dyads.velocities(topology, pos, TH2D)
@@ -154,8 +178,9 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
                 for k in moving if k > 2)
     thdd = tuple(b.out(f"TH{k}DD", "angular acceleration",
                        f"angular acceleration of link {k}, CCW +") for k in moving if k > 2)
-    b.add("_link_angles", lambda pos: tuple(_angle_deg(pos.link[k][1], pos.link[k][0])
-                                            for k in moving if k > 2), ath, ("pos",))
+    b.add("_link_angles", lambda pos: tuple(call(_angle_deg, None, pos.link[k][1],
+                                                 pos.link[k][0]) for k in moving if k > 2),
+          ath, ("pos",))
     b.add("_link_rates_out", lambda vel: tuple(vel.w[k] + 0.0 for k in moving if k > 2),
           thd, ("vel",))
     b.add("_link_accelerations", lambda acc: tuple(acc.w[k] + 0.0 for k in moving if k > 2),
@@ -165,7 +190,8 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
         names = tuple(b.out(f"GAMMA{j}", "angle", f"transmission angle at {j}, between its "
                             "two links, 0 to 180") for j in gammas)
         b.add("_transmission", lambda pos: tuple(
-            _angle_deg(pos.gamma[j][0], pos.gamma[j][1]) for j in gammas), names, ("pos",))
+            call(_angle_deg, None, pos.gamma[j][0], pos.gamma[j][1]) for j in gammas), names,
+            ("pos",))
     b.add("_assembly", np.isfinite, (b.out("ASSEMBLED", "number", "True where the linkage "
                                            "closes at this crank angle"),), ("margin",))
 
@@ -213,24 +239,25 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
     b.add("_link_rates", _link_rates, ("link_rates",), ("pos", "vel"))
 
     def _inertia_loads(pos: Any, acc: Any, GW: Any, *m: Any) -> Any:
-        out = {}
+        out = []
         for i, k in enumerate(moving):
             W, ZI = m[4 * i], m[4 * i + 1]
             ax, ay = acc.v[f"G{k}"]
             fx, fy = ax * (-W / GW), ay * (-W / GW)
             gx, gy = pos.pt[f"G{k}"]
             _, _, bx, by = pos.link[k]
-            out[k] = (fx, fy, (gx - bx) * fy - (gy - by) * fx - ZI * acc.w[k])
-        return out
+            out.append((fx, fy, (gx - bx) * fy - (gy - by) * fx - ZI * acc.w[k]))
+        return tuple(out)
     b.add("_inertia_loads", _inertia_loads, ("inertia_loads",), ("pos", "acc", "GW") + masses)
 
     slots = joints.slots(topology)
 
     def statics(loads: Any, pos: Any) -> Any:
-        if not isinstance(loads, dict):  # an effect's: one (fx, fy, m) per moving link
-            loads = dict(zip(moving, loads, strict=True))
-        return joints.solve(topology, loads, pos)
+        """The slots for loads on the links, one (fx, fy, m) per moving link in order."""
+        return joints.solve(topology, dict(zip(moving, loads, strict=True)), pos)
+    b.skeletons["inertia_loads"] = nested(((None,) * 3,) * len(moving))
     b.add("_inertia_forces", statics, tuple(s + "_i" for s in slots), ("inertia_loads", "pos"))
+    statics = b.steps[-1].fn  # unrolled: an effect's loads are of the inertia loads' shape
 
     totals = []
     for j in pins:
@@ -277,7 +304,7 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
 
     def _seed(mech: Any, ath2: Any, scene: Any) -> dict[str, Any]:
         values = mech.as_dict()
-        ns: dict[str, Any] = {"BRANCH": _signs(scene.branch, dyads_n)}
+        ns: dict[str, Any] = dict(zip(branches, _signs(scene.branch, dyads_n), strict=True))
         for f in fields:
             v = np.asarray(values.get(f, 0.0), dtype=float)
             ns[f] = float(v) if v.ndim == 0 else v
@@ -313,6 +340,8 @@ def linkage_model(topology: Topology, name: str, *, mechanism: type | None = Non
                   full_turn=full_turn)
     model.add(step_of(_crank_angle), step_of(_crank_acceleration), b.steps)
     model.topology = topology  # type: ignore[attr-defined]
+    for name in _FLAT:
+        keep(topology, name, b.skeletons.get(name))
     model.link_names = {k: topology.link_name(k) for k in range(1, links + 1)}
     return model
 
