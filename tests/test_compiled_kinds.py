@@ -32,7 +32,6 @@ still held to the bound and the compiled cases skip.
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import warnings
 
@@ -53,10 +52,11 @@ from sielaff import (
 )
 from sielaff.engine import AssemblyWarning, model_for
 from sielaff.engine.accuracy import EPS, POWER, C
+from sielaff.engine.compiled import available
 from sielaff.engine.scene import scene_type
 from sielaff.quantities import unit
 
-HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+HAVE_NUMBA = available()
 BACKENDS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(
     not HAVE_NUMBA, reason="numba is not installed"))]
 

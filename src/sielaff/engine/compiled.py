@@ -26,6 +26,15 @@ Error bound
     digits), and so within twice that of each other (tests/test_compiled.py).  NaN and
     infinities where the numpy engine has them, but at a toggle to within roundoff.
 
+The other kinds (slider-crank, inverted slider-crank, the six-bars, any Linkage) compile
+as the four-bar does: their steps are the functions :mod:`sielaff.engine.unroll` wrote
+from the linkage's steps, which the numpy engine runs too, and the joints' linear solve
+is LAPACK's there and Gaussian elimination with partial pivoting for one position here
+(:func:`sielaff.engine.kernel_math._linear_one`; both backward stable).  Their bound is
+the four-bar's taken dyad by dyad (tests/test_compiled_kinds.py, against 40 digits).
+Their pin friction (a Newton solve over the positions) has no one-position form and is
+refused, naming it.
+
 The kernels are kept per model, plan and which inputs are arrays (engine/kernel.py), in
 this process and in the kernel cache's folder for later ones (engine/kernel_cache.py);
 the first call of a request compiles its kernel (seconds to tens of seconds).

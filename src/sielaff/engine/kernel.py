@@ -30,7 +30,7 @@ import keyword
 import threading
 import types
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, Literal
 
 from sielaff.engine.registry import Model, Plan, Step
 
@@ -95,7 +95,8 @@ def scalar_form(fn: Any) -> Any:
         f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
         # a call of more than 30 arguments is compiled by CPython as f(*args), which
         # numba's inliner refuses: such a step is called (LLVM may still inline it)
-        inline = "always" if fn.__code__.co_argcount <= _MAX_INLINED_ARGS else "never"
+        inline: Literal["always", "never"] = (
+            "always" if fn.__code__.co_argcount <= _MAX_INLINED_ARGS else "never")
         _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline=inline)(f)
         return _FORMS[fn]
 

@@ -10,6 +10,12 @@ included; a pin force F<pin><by><on>, or F<pivot> on the frame; S, VS, AS, FN, M
 the slide's label for a slide; GAMMA<pin> an RRR's angle at its inner pin; TORQ, SHAK,
 SHAKM), then renamed as the topology says (``Topology.names``: the four-bar's and the
 slider-crank's FOA for FO2).
+
+Each step is written here once, over the topology, and unrolled into plain code
+(engine/unroll.py: the dictionaries of links and points looked up once, the positions
+and rates passed between steps as flat tuples): the numpy engine runs the unrolled
+function (the same operations in the same order, so the same bits), and the compiled
+backend compiles it for one position as it compiles any step.
 """
 
 from __future__ import annotations
