@@ -29,9 +29,24 @@ def put(dst: Any, value: Any, where: Any) -> Any:
 
 
 def mod360(x: Any) -> Any:
-    """Angles [deg] reduced modulo 360 into [0, 360), exactly (fmod); angles already there
-    are returned as they are.  A NaN makes min or max NaN, and then every element is
-    reduced (NaN stays NaN, the others as without it)."""
-    if np.size(x) and not (np.min(x) >= 0.0 and np.max(x) < 360.0):
-        return np.mod(x, 360.0)
-    return x
+    """Angles [deg] reduced modulo 360 into [0, 360) as ``np.mod(x, 360.0)`` reduces them
+    (fmod, exact, then 360 added to a negative remainder); angles already there are
+    returned as they are.  A NaN makes min or max NaN, and then every element is reduced
+    (NaN stays NaN, the others as without it).
+
+    Angles in [-360, 720), a line's angle plus an offset, take one turn added or taken
+    away, the same numbers np.mod gives at a tenth of its cost: x - 360 is exact for x in
+    [360, 720) (Sterbenz), and for x in [-360, 0) np.mod's remainder is x itself, to
+    which it adds 360 as here (rounded, so -1e-20 becomes 360 in both)."""
+    if not np.size(x):
+        return x
+    lo, hi = np.min(x), np.max(x)
+    if lo >= 0.0 and hi < 360.0:
+        return x
+    if lo >= -360.0 and hi < 720.0:
+        y = np.asarray(np.subtract(x, 360.0))
+        np.copyto(y, x, where=np.less(x, 360.0))
+        np.add(y, 360.0, out=y, where=np.less(x, 0.0))  # may round to 360, as np.mod's
+        y += 0.0  # -0.0 -> +0.0, as np.mod
+        return y if np.ndim(x) else y[()]
+    return np.mod(x, 360.0)
