@@ -108,7 +108,7 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
         ) -> tuple[dict[str, np.ndarray], int | None, tuple[int, ...]]:
     """The request's outputs by the compiled kernel: ``({name: array}, not assembled,
     shape)``; ``out`` (flat or of the crank angles' shape) written in place."""
-    from sielaff.engine.kernel import Uncompilable, kernel_for
+    from sielaff.engine.kernel import Uncompilable, counts_assembly, kernel_for
 
     model = req.model
     missing = [n for n in req.wanted if n in NOT_GIVEN]
@@ -188,8 +188,7 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
     for name in req.wanted:
         result[name] = given[name].reshape(-1) if name in given else next(fresh)
     outs = list(result.values())
-    counts = model.counts is not None and any(
-        model.counts in st.provides and not skipped for st, skipped, _ in order)
+    counts = counts_assembly(model, order)
     if threads == 1 or n < 4096 * threads:
         bad = kernel(n, *values, *per_position, *outs) if n else 0
     else:

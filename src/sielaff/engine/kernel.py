@@ -39,7 +39,7 @@ from typing import Any
 
 from sielaff.engine.registry import Model, Plan, Step
 
-__all__ = ["Uncompilable", "kernel_for", "kernel_source"]
+__all__ = ["Uncompilable", "counts_assembly", "kernel_for", "kernel_source"]
 
 _LOCK = threading.RLock()
 _FORMS: dict[Any, Any] = {}
@@ -129,7 +129,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         body.append(f"{v(name)} = " + (records[0] if single else
                                        "(" + ", ".join(records) + ",)"))
     called: list[Step] = []
-    counts = any(model.counts in st.provides and not skipped for st, skipped, _ in order)
+    counts = counts_assembly(model, order)
     counted = False
     slot = {name: j for j, name in enumerate(wanted)}
     waiting: list[str] = []
@@ -173,6 +173,14 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                      *("        " + line for line in body),
                      "    return _bad", ""])
     return src, called
+
+
+def counts_assembly(model: Model, order: Plan) -> bool:
+    """Whether the plan solves the loop (runs the step of the model's ``counts`` name):
+    then the kernel counts the positions that cannot assemble and its outputs are NaN
+    there."""
+    return model.counts is not None and any(
+        model.counts in st.provides and not skipped for st, skipped, _ in order)
 
 
 def _schedule(order: Plan) -> Plan:
