@@ -480,13 +480,14 @@ def test_refusals_in_one_line(kwargs, match):
 
 
 @pytest.mark.parametrize("scene, output, match", [
-    (Scene(friction=PinFriction(0.1, 0.2)), "TORQ", "pin friction"),
+    (Scene(friction=PinFriction(0.1, 0.2)), "FRICTION_SOLUTIONS",
+     r"pin friction \(its step _friction_solutions\)"),
     (Scene(), "ASSEMBLED", "does not give ASSEMBLED"),
     (Scene(tex=lambda ath4: ath4), "TORQ", "not a function"),
     (Scene(loads=[Load(3, r=lambda a: a)]), "TORQ", "not a function"),
 ])
 def test_uncovered_effects_refused_in_one_line(scene, output, match):
-    """What the backend does not compile (friction, springs, dampers, functions of the
+    """What the backend does not compile (friction's count of solutions, functions of the
     angle, the mask) is a ValueError of one line through ``analyze``, before any kernel."""
     with pytest.raises(ValueError, match=match) as e:
         analyze(EXAMPLE, [10.0, 20.0], [output], scene=scene, backend="numba")

@@ -77,15 +77,18 @@ def scalar_form(fn: Any) -> Any:
             _FORMS[fn] = twins[fn]
             return twins[fn]
         glob = dict(fn.__globals__)
-        glob["np"] = np1
+        arrays = getattr(fn, "__sielaff_array_code__", False)  # arith.array_code
+        if not arrays:  # array code keeps numba's own numpy (arrays at one position)
+            glob["np"] = np1
         for name in _names(fn.__code__):
             v = glob.get(name)
-            if v in twins or _package_function(v):
+            if _package_function(v):  # (twins are the package's functions too)
                 glob[name] = scalar_form(v)
         if fn.__closure__:
             raise Uncompilable(f"{fn.__name__} is a closure")
         f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
-        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline="always")(f)
+        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True,
+                                inline="never" if arrays else "always")(f)
         return _FORMS[fn]
 
 
