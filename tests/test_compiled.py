@@ -14,7 +14,8 @@ construction and checked with linkage_class; the change point by its example, a 
 one is not covered), in the 1966 scene and with every effect the backend covers (TEX,
 crank acceleration, gravity, loads, springs and dampers; constants and arrays), and
 with inputs that make the
-numpy engine skip steps.  What it does not cover is refused in one line.  ``_fixed`` is
+numpy engine skip steps; pin friction in tests/test_compiled_friction.py.  What it does
+not cover is refused in one line.  ``_fixed`` is
 a no-op on today's numpy engine (it carried issue 20's fixes before they were merged).
 Kernels are compiled once per request shape and cached (compiled.py, "The kernel cache").
 """

@@ -31,6 +31,13 @@ pin's friction power loss, ``mu r |F| |relative rotation|`` with the reported pi
 answer), ``FRICTION_STATUS`` and ``FRICTION_SOLUTIONS``.  With mu = 0 at
 every pin (or no friction) no step here runs and every output is bit for bit as
 without friction.
+
+The step is written once for both engines: over arrays (the fixed point compacted to the
+positions still iterating) and, compiled by the numba backend, for one position (the
+same code, :mod:`sielaff.engine.arith`'s operations in their one-position forms; the
+solve where the law need not contract is array code, given an array of one).  Its
+FrictionWarning is declared with the step (``warns``) and issued by the model after it,
+on either backend.  ``FRICTION_SOLUTIONS`` is the numpy engine's only.
 """
 
 from __future__ import annotations
