@@ -14,7 +14,8 @@ construction and checked with linkage_class; the change point by its example, a 
 one is not covered), in the 1966 scene and with every effect the backend covers (TEX,
 crank acceleration, gravity, loads, springs and dampers; constants and arrays), and
 with inputs that make the
-numpy engine skip steps.  What it does not cover is refused in one line.  ``_fixed`` is
+numpy engine skip steps; pin friction in tests/test_compiled_friction.py.  What it does
+not cover is refused in one line.  ``_fixed`` is
 a no-op on today's numpy engine (it carried issue 20's fixes before they were merged).
 Kernels are compiled once per request shape and cached (compiled.py, "The kernel cache").
 """
@@ -482,13 +483,14 @@ def test_refusals_in_one_line(kwargs, match):
 
 
 @pytest.mark.parametrize("scene, output, match", [
-    (Scene(friction=PinFriction(0.1, 0.2)), "TORQ", "pin friction"),
+    (Scene(friction=PinFriction(0.1, 0.2)), "FRICTION_SOLUTIONS",
+     r"pin friction \(its step _friction_solutions\)"),
     (Scene(), "ASSEMBLED", "does not give ASSEMBLED"),
     (Scene(tex=lambda ath4: ath4), "TORQ", "not a function"),
     (Scene(loads=[Load(3, r=lambda a: a)]), "TORQ", "not a function"),
 ])
 def test_uncovered_effects_refused_in_one_line(scene, output, match):
-    """What the backend does not compile (friction, springs, dampers, functions of the
+    """What the backend does not compile (friction's count of solutions, functions of the
     angle, the mask) is a ValueError of one line through ``analyze``, before any kernel."""
     with pytest.raises(ValueError, match=match) as e:
         analyze(EXAMPLE, [10.0, 20.0], [output], scene=scene, backend="numba")

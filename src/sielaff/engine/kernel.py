@@ -43,6 +43,7 @@ __all__ = ["Uncompilable", "counts_assembly", "kernel_for", "kernel_source"]
 
 _LOCK = threading.RLock()
 _FORMS: dict[Any, Any] = {}
+_ARRAY_CODE: set[Any] = set()  # the functions that are or call array code (arith.array_code)
 _ONE: list[Any] = []
 
 
@@ -82,15 +83,21 @@ def scalar_form(fn: Any) -> Any:
             _FORMS[fn] = twins[fn]
             return twins[fn]
         glob = dict(fn.__globals__)
-        glob["np"] = np1
+        arrays = getattr(fn, "__sielaff_array_code__", False)  # arith.array_code
+        if not arrays:  # array code keeps numba's own numpy (arrays at one position)
+            glob["np"] = np1
         for name in _names(fn.__code__):
             v = glob.get(name)
-            if v in twins or _package_function(v):
+            if _package_function(v):  # (twins are the package's functions too)
                 glob[name] = scalar_form(v)
+                arrays = arrays or v in _ARRAY_CODE
+        if arrays:
+            _ARRAY_CODE.add(fn)
         if fn.__closure__:
             raise Uncompilable(f"{fn.__name__} is a closure")
         f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
-        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline="always")(f)
+        _FORMS[fn] = numba.njit(error_model="numpy", nogil=True,
+                                inline="never" if arrays else "always")(f)
         return _FORMS[fn]
 
 
@@ -324,10 +331,13 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         # at run time (its limit on those checks, 128, raised while the kernel compiles)
         # and if the loops over a scene's loads, springs and dampers are unrolled (a loop
         # over a tuple of records indexes it at run time; its body is large, so the limit
-        # on a full unroll's size is raised too, then set back to O3's 300)
+        # on a full unroll's size is raised too, then set back to O3's 300); not where a
+        # step calls array code (its fixed loops would be unrolled, for minutes, and its
+        # loop of iterations keeps the kernel's from being vectorised anyway)
+        unroll = not any(st.fn in _ARRAY_CODE for st in called)
         with _LLVM_OPTION:
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
-            llvm.set_option("", "-unroll-threshold=100000")
+            llvm.set_option("", f"-unroll-threshold={100000 if unroll else 300}")
             try:
                 kernel.compile((numba.types.int64,) + (f64,) * len(scalars)
                                + (ro,) * len(arrays) + (arr,) * len(wanted))
