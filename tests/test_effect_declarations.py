@@ -139,15 +139,14 @@ def test_on_its_steps_run_and_its_outputs_answer(name):
 @pytest.mark.parametrize("name", NAMES)
 def test_the_compiled_backend_compiles_it_from_its_steps_or_refuses_it(name):
     """The compiled backend asks no declaration: it compiles the effect's own steps (and
-    then agrees with the numpy engine) or refuses it in one line naming it.  Pin friction's
-    per-position solve has no one-position form yet; every other effect compiles."""
+    then agrees with the numpy engine) or refuses it in one line naming it.  Every effect
+    compiles; pin friction's count of solutions (FRICTION_SOLUTIONS) is refused."""
     pytest.importorskip("numba")
     scene = Scene(**EXAMPLES[name])
     if name == "pin friction":
         with pytest.raises(ValueError, match=f"has no compiled form of {name}") as e:
-            analyze(EXAMPLE, ANGLES, ["TORQ"], scene=scene, backend="numba")
+            analyze(EXAMPLE, ANGLES, ["FRICTION_SOLUTIONS"], scene=scene, backend="numba")
         assert "\n" not in str(e.value)
-        return
     got = analyze(EXAMPLE, ANGLES, ["TORQ"], scene=scene, backend="numba")["TORQ"]
     ref = analyze(EXAMPLE, ANGLES, ["TORQ"], scene=scene)["TORQ"]
     assert not np.array_equal(ref, analyze(EXAMPLE, ANGLES, ["TORQ"])["TORQ"])  # it acts

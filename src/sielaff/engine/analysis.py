@@ -4,6 +4,7 @@ assemble the same way."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Iterable
@@ -14,7 +15,7 @@ import numpy as np
 
 from sielaff.engine.fourbar import FOURBAR
 from sielaff.engine.inverted_slider_crank import INVERTED_SLIDER_CRANK
-from sielaff.engine.registry import Model
+from sielaff.engine.registry import Model, Step, warn
 from sielaff.engine.scene import Scene, SceneBase, scene_from
 from sielaff.engine.sixbar import STEPHENSON, WATT, linkage_for
 from sielaff.engine.slider_crank import SLIDER_CRANK
@@ -386,6 +387,20 @@ def _analyze_into(mechanism: Mechanism, ath2: Any, out: dict[str, np.ndarray], b
     return result
 
 
+def _warning_steps(req: Request) -> list[Step]:
+    """The steps the plan of ``req`` runs that issue warnings (``Step.warns``): the
+    compiled backend writes the outputs they warn from, then calls them."""
+    model = req.model
+    if not any(st.warns for e in model.effects_on(req.scene) for st in e.steps) and \
+            not any(st.warns for st in model.steps):
+        return []
+    th = np.asarray(req.ath2, dtype=float)
+    shape = th.shape if req.shape is None else req.shape
+    ns = model.seed(req.mechanism, np.broadcast_to(th, shape).reshape(-1), req.scene)
+    order = model.plan(req.wanted, frozenset(ns), model.zero_seeds(ns))
+    return [st for st, skipped, _ in order if not skipped and st.warns is not None]
+
+
 def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Results:
     """``analyze(..., backend="numba")``: the kernel compiled from the model's own plan for
     the wanted names, writing straight into ``out``'s arrays (or fresh ones); see
@@ -394,7 +409,13 @@ def _analyze_compiled(req: Request, out: dict[str, np.ndarray] | None) -> Result
 
     if out is not None:
         _check_out(out, np.shape(req.ath2))
-    got, bad, shape = run(req, out)
+    warned = _warning_steps(req)
+    extra = tuple(dict.fromkeys(n for st in warned for n in st.warns[0]  # type: ignore[index]
+                                if n not in req.wanted))
+    got, bad, shape = run(dataclasses.replace(req, wanted=req.wanted + extra) if extra
+                          else req, out)
+    for st in warned:  # the steps' warnings, from the outputs the kernel wrote
+        warn(st, got)
     result = Results()
     result.units, result.ath2 = req.mechanism.units, req.ath2
     for name in req.wanted:

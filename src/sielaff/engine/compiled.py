@@ -5,8 +5,8 @@ In:  a checked request (:class:`sielaff.engine.analysis.Request`): one design (s
      value a constant or an array of the crank angles' shape), the wanted names; and,
      optionally, the arrays to write into.
 Out: the wanted outputs, in the units ``analyze`` gives, written straight into the arrays
-     returned (the caller's with ``out=``, else fresh ones: no table, no copy), and how
-     many positions cannot assemble.
+     returned (the caller's with ``out=``, else fresh ones, the rows of one block aligned
+     to a huge page: no table, no copy), and how many positions cannot assemble.
 
 What is compiled is the model's own plan: the steps the numpy engine would run for
 this request, each step's own code compiled for one position
@@ -89,11 +89,35 @@ def _records(v: Any) -> list[Any] | None:
     return None
 
 
+#: Fresh results start on a boundary of this many bytes, the size of a huge page (2 MiB
+#: on x86-64 and most arm64 kernels): numpy asks Linux for huge pages for large arrays,
+#: and a block aligned to them is faulted in 2 MiB at a time instead of 4 KiB.
+HUGE_PAGE = 1 << 21
+#: A block of fewer floats than fill 8 huge pages is not aligned (its padding, up to a
+#: huge page, would be much of it).
+_ALIGN_FROM = 8 * HUGE_PAGE // 8
+
+
+def _fresh(k: int, n: int) -> list[np.ndarray]:
+    """``k`` new arrays of ``n`` floats: rows of one block aligned to a huge page.
+
+    Writing a fresh array first costs the kernel's page faults (zeroing the pages), more
+    than the kernel's arithmetic on 4 KiB pages; one aligned block halves that here
+    (docs/performance.md).  The rows are views: the block is freed with the last of them.
+    """
+    if k == 0:
+        return []
+    pad = HUGE_PAGE // 8 if k * n >= _ALIGN_FROM else 0
+    raw = np.empty(k * n + pad)
+    start = (-raw.ctypes.data % HUGE_PAGE) // 8 if pad else 0
+    return list(raw[start:start + k * n].reshape(k, n))
+
+
 def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
         ) -> tuple[dict[str, np.ndarray], int | None, tuple[int, ...]]:
     """The request's outputs by the compiled kernel: ``({name: array}, not assembled,
     shape)``; ``out`` (flat or of the crank angles' shape) written in place."""
-    from sielaff.engine.kernel import Uncompilable, kernel_for
+    from sielaff.engine.kernel import Uncompilable, counts_assembly, kernel_for
 
     model = req.model
     missing = [n for n in req.wanted if n in NOT_GIVEN]
@@ -167,13 +191,13 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
                           "\"sielaff[fast]\" (or use backend='numpy')") from None
     except Uncompilable as e:
         raise ValueError(str(e)) from None
+    given = {} if out is None else {k: a for k, a in out.items() if a is not None}
+    fresh = iter(_fresh(sum(name not in given for name in req.wanted), n))
     result: dict[str, np.ndarray] = {}
     for name in req.wanted:
-        a = None if out is None else out.get(name)
-        result[name] = np.empty(n) if a is None else a.reshape(-1)
+        result[name] = given[name].reshape(-1) if name in given else next(fresh)
     outs = list(result.values())
-    counts = model.counts is not None and any(
-        model.counts in st.provides and not skipped for st, skipped, _ in order)
+    counts = counts_assembly(model, order)
     if threads == 1 or n < 4096 * threads:
         bad = kernel(n, *values, *per_position, *outs) if n else 0
     else:

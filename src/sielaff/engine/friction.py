@@ -31,6 +31,13 @@ pin's friction power loss, ``mu r |F| |relative rotation|`` with the reported pi
 answer), ``FRICTION_STATUS`` and ``FRICTION_SOLUTIONS``.  With mu = 0 at
 every pin (or no friction) no step here runs and every output is bit for bit as
 without friction.
+
+The step is written once for both engines: over arrays (the fixed point compacted to the
+positions still iterating) and, compiled by the numba backend, for one position (the
+same code, :mod:`sielaff.engine.arith`'s operations in their one-position forms; the
+solve where the law need not contract is array code, given an array of one).  Its
+FrictionWarning is declared with the step (``warns``) and issued by the model after it,
+on either backend.  ``FRICTION_SOLUTIONS`` is the numpy engine's only.
 """
 
 from __future__ import annotations
@@ -42,6 +49,20 @@ from typing import Any
 
 import numpy as np
 
+from sielaff.engine.arith import (
+    batch,
+    filled,
+    flat,
+    narrow,
+    none,
+    pick,
+    positions,
+    put,
+    scatter,
+    shape_of,
+    shaped,
+    unbatch,
+)
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.friction_solve import contraction, solve
 from sielaff.engine.registry import Effect, step, step_of
@@ -158,6 +179,80 @@ def couples(t, sg):
     return m2, m3, m4
 
 
+# A position's eight pin-force components (FA32X, FA32Y, FB34X, FB34Y, FOAX, FOAY, FOBX,
+# FOBY), four signs (O2, A, B, O4) and ten geometry values (R2, R3, R4, c2, s2, c3, s3, c4,
+# s4, s34) travel as tuples; the helpers below are the step's own code (one definition
+# for arrays and for one position, arith's operations where they differ).
+
+def _torques(mur, f):
+    """mu r |F| at O2 (FOA), A (FA32), B (FB34), O4 (FOB)."""
+    return (mur[0] * np.hypot(f[4], f[5]), mur[1] * np.hypot(f[0], f[1]),
+            mur[2] * np.hypot(f[2], f[3]), mur[3] * np.hypot(f[6], f[7]))
+
+
+def _forces(t, sg, g):
+    """The pin forces and TORQ share of the couples ``t`` (signs ``sg``, geometry ``g``)."""
+    m2, m3, m4 = couples(t, sg)
+    return pins(0.0, 0.0, m2, 0.0, 0.0, m3, 0.0, 0.0, m4, g[0], g[1], g[2], g[3], g[4],
+                g[5], g[6], g[7], g[8], g[9])
+
+
+def _plus(f, c):
+    """The eight pin-force components ``f`` plus the couples' share ``c``."""
+    return (f[0] + c[0], f[1] + c[1], f[2] + c[2], f[3] + c[3], f[4] + c[4], f[5] + c[5],
+            f[6] + c[6], f[7] + c[7])
+
+
+def _pick4(v, idx):
+    return (pick(v[0], idx), pick(v[1], idx), pick(v[2], idx), pick(v[3], idx))
+
+
+def _pick8(v, idx):
+    return _pick4(v, idx) + (pick(v[4], idx), pick(v[5], idx), pick(v[6], idx),
+                             pick(v[7], idx))
+
+
+def _pick10(v, idx):
+    return _pick8(v, idx) + (pick(v[8], idx), pick(v[9], idx))
+
+
+def _batch4(v, idx):
+    return (batch(v[0], idx), batch(v[1], idx), batch(v[2], idx), batch(v[3], idx))
+
+
+def _batch8(v, idx):
+    return _batch4(v, idx) + (batch(v[4], idx), batch(v[5], idx), batch(v[6], idx),
+                              batch(v[7], idx))
+
+
+def _scatter9(dst, idx, c, where):
+    """The nine corrections ``dst`` with ``c`` (at ``idx``) put where ``where`` holds."""
+    return (scatter(dst[0], idx, c[0], where), scatter(dst[1], idx, c[1], where),
+            scatter(dst[2], idx, c[2], where), scatter(dst[3], idx, c[3], where),
+            scatter(dst[4], idx, c[4], where), scatter(dst[5], idx, c[5], where),
+            scatter(dst[6], idx, c[6], where), scatter(dst[7], idx, c[7], where),
+            scatter(dst[8], idx, c[8], where))
+
+
+def _largest(a):
+    """The largest of four values at each position (NaN if one is)."""
+    return np.maximum(np.maximum(np.maximum(a[0], a[1]), a[2]), a[3])
+
+
+def _warn_status(status):
+    """The FrictionWarning where some position has no solution of the law, or only ones
+    not reached from mu = 0 (``FRICTION_STATUS`` 2 or 3 at the step's positions): the
+    model calls it after the step, on either backend."""
+    status = np.asarray(status)
+    none_ = int(np.count_nonzero(status == 2.0))
+    other = int(np.count_nonzero(status == 3.0))
+    if none_ or other:
+        warnings.warn(f"pin friction at {status.size} positions: {none_} have no solution of "
+                      "the friction law (self-locking: NaN, FRICTION_STATUS 2), "
+                      f"{other} only solutions not reached from mu = 0 (the least friction "
+                      "taken, FRICTION_STATUS 3)", FrictionWarning, stacklevel=2)
+
+
 @step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
                 "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4",
                 "FRICTION_ITERATIONS", "FRICTION_STATUS"),
@@ -165,90 +260,96 @@ def couples(t, sg):
              "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0",
              "FOBY_0", "TH2D", "TH3D", "TH4D", "R2", "R3", "R4", "c2", "s2", "c3", "s3",
              "c4", "s4", "s34"),
-      zero_when=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"))
+      zero_when=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"),
+      warns=(("FRICTION_STATUS",), _warn_status))
 def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
               FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
               TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    geo = (R2, R3, R4, c2, s2, c3, s3, c4, s4, s34)
-    f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
-    shape = np.broadcast_shapes(*(np.shape(x) for x in f0 + geo + (TH2D, TH3D, TH4D)))
-    n = int(np.prod(shape))
-
-    def flat(x):
-        return np.broadcast_to(np.asarray(x, dtype=float), shape).reshape(-1)
-
-    geo_f = [flat(x) for x in geo]
-    f0_f = [flat(x) for x in f0]
-    sg = [flat(x) for x in _signs(TH2D, TH3D, TH4D)]
-
-    def torques(f):
-        """mu r |F| at O2 (FOA), A (FA32), B (FB34), O4 (FOB)."""
-        return (MUR_O2 * np.hypot(f[4], f[5]), MUR_A * np.hypot(f[0], f[1]),
-                MUR_B * np.hypot(f[2], f[3]), MUR_O4 * np.hypot(f[6], f[7]))
-
-    def forces(t, idx):
-        """The pin forces and TORQ share of the couples t at positions idx."""
-        m2, m3, m4 = couples(t, [s[idx] for s in sg])
-        return pins(0.0, 0.0, m2, 0.0, 0.0, m3, 0.0, 0.0, m4, *[g[idx] for g in geo_f])
-
-    corr = [np.zeros(n) for _ in range(9)]
-    iterations = np.zeros(n)
-    idx = np.flatnonzero(np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0))
-    t = torques([f[idx] for f in f0_f])
-    for k in range(1, friction_max_iter + 1):
-        c = forces(t, idx)
-        new = torques([f0_f[i][idx] + c[i] for i in range(8)])
-        change = np.max(np.abs(np.array(new) - np.array(t)), axis=0)
-        scale = np.max(np.array(new), axis=0)
+    shape = shape_of((FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
+                      R2, R3, R4, c2, s2, c3, s3, c4, s4, s34, TH2D, TH3D, TH4D))
+    geo = (flat(R2, shape), flat(R3, shape), flat(R4, shape), flat(c2, shape),
+           flat(s2, shape), flat(c3, shape), flat(s3, shape), flat(c4, shape),
+           flat(s4, shape), flat(s34, shape))
+    f0 = (flat(FA32X_0, shape), flat(FA32Y_0, shape), flat(FB34X_0, shape),
+          flat(FB34Y_0, shape), flat(FOAX_0, shape), flat(FOAY_0, shape),
+          flat(FOBX_0, shape), flat(FOBY_0, shape))
+    signs = _signs(TH2D, TH3D, TH4D)
+    sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
+          flat(signs[3], shape))
+    mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
+    finite = np.isfinite(f0[0])
+    for v in f0[1:] + geo[3:]:
+        finite = finite & np.isfinite(v)
+    corr = (filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0),
+            filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0),
+            filled(shape, 0.0))
+    iterations = filled(shape, 0.0)
+    # the fixed point, at the positions still iterating (idx)
+    idx = positions(finite)
+    f0_i, sg_i, geo_i = _pick8(f0, idx), _pick4(sg, idx), _pick10(geo, idx)
+    t = _torques(mur, f0_i)
+    for k in range(1, int(friction_max_iter) + 1):
+        c = _forces(t, sg_i, geo_i)
+        new = _torques(mur, _plus(f0_i, c))
+        change = _largest((np.abs(new[0] - t[0]), np.abs(new[1] - t[1]),
+                           np.abs(new[2] - t[2]), np.abs(new[3] - t[3])))
+        scale = _largest(new)
         blown = ~np.isfinite(scale)
         done = (change <= friction_tol * scale) & ~blown  # False for NaN and inf
-        for i in range(9):
-            corr[i][idx[done]] = c[i][done]
-        iterations[idx[done]] = k
+        corr = _scatter9(corr, idx, c, done)
+        iterations = scatter(iterations, idx, float(k), done)
         keep = ~done & ~blown
-        idx, t = idx[keep], [x[keep] for x in new]
-        if not idx.size:
+        idx = narrow(idx, keep)
+        t, f0_i = _pick4(new, keep), _pick8(f0_i, keep)
+        sg_i, geo_i = _pick4(sg_i, keep), _pick10(geo_i, keep)
+        if none(idx):
             break
-    status = np.where(np.any(np.array(sg) == 0.0, axis=0), 1.0, 0.0)
-    finite = np.all(np.isfinite(np.array(f0_f + geo_f[3:])), axis=0)
+    status = np.where((sg[0] == 0.0) | (sg[1] == 0.0) | (sg[2] == 0.0) | (sg[3] == 0.0),
+                      1.0, 0.0)
     # where the law need not be a contraction, every solution it has (friction_solve.py)
-    mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    hard, pairs, solved = _where_not_contracting(
-        mur, finite, f0_f, sg, [geo_f[j] for j in (1, 2, 5, 6, 7, 8, 9)])
-    if solved is not None:
-        x, _, found = solved
-        fixed = np.stack([corr[2][hard], corr[3][hard]], axis=-1)  # the fixed point's x
-        same = (iterations[hard] > 0.0) & (found == 0.0) & (
-            np.hypot(*(fixed - np.nan_to_num(x)).T)
-            <= 1e-8 * (np.hypot(*fixed.T) + np.hypot(*pairs[1].T)))
-        new = hard[~same]  # the fixed point's answer is kept where it is the continuous one
-        xn = x[~same]
-        t_new = torques([f0_f[j][new] + (xn[:, j % 2] * (1.0 if j in (2, 3, 6, 7) else -1.0))
-                         for j in range(8)])
-        c = forces(t_new, new)
-        for i in range(9):
-            corr[i][new] = c[i]
-        iterations[new] = 0.0
-        status[new] = np.where(found[~same] == 0.0, status[new], found[~same])
+    hard = positions(finite & ~(contraction(mur, geo[1], geo[2], geo[9]) < 1.0))
+    if not none(hard):
+        x0, x1, _, found = solve(_batch8(f0, hard), mur, _batch4(sg, hard),
+                                 batch(geo[1], hard), batch(geo[2], hard),
+                                 batch(geo[5], hard), batch(geo[6], hard),
+                                 batch(geo[7], hard), batch(geo[8], hard),
+                                 batch(geo[9], hard))
+        x0, x1, found = unbatch(x0), unbatch(x1), unbatch(found)
+        fixed0, fixed1 = pick(corr[2], hard), pick(corr[3], hard)  # the fixed point's x
+        same = (pick(iterations, hard) > 0.0) & (found == 0.0) & (
+            np.hypot(fixed0 - np.where(np.isnan(x0), 0.0, x0),
+                     fixed1 - np.where(np.isnan(x1), 0.0, x1))
+            <= 1e-8 * (np.hypot(fixed0, fixed1) + np.hypot(pick(f0[2], hard),
+                                                            pick(f0[3], hard))))
+        new_x = ~same  # the fixed point's answer is kept where it is the continuous one
+        f_h = _pick8(f0, hard)
+        t_new = _torques(mur, (f_h[0] + x0 * -1.0, f_h[1] + x1 * -1.0, f_h[2] + x0 * 1.0,
+                               f_h[3] + x1 * 1.0, f_h[4] + x0 * -1.0, f_h[5] + x1 * -1.0,
+                               f_h[6] + x0 * 1.0, f_h[7] + x1 * 1.0))
+        corr = _scatter9(corr, hard, _forces(t_new, _pick4(sg, hard), _pick10(geo, hard)),
+                         new_x)
+        iterations = scatter(iterations, hard, 0.0, new_x)
+        status = scatter(status, hard, np.where(found == 0.0, pick(status, hard), found),
+                         new_x)
     failed = ~finite | (status == 2.0)
-    for x_ in corr:
-        x_[failed] = np.nan
-    bad = finite & (status >= 2.0)
-    if np.any(bad):
-        none = int(np.count_nonzero(status == 2.0))
-        other = int(np.count_nonzero(status == 3.0))
-        warnings.warn(f"pin friction at {n} positions: {none} have no solution of the "
-                      f"friction law (self-locking: NaN, FRICTION_STATUS 2), {other} only "
-                      "solutions not reached from mu = 0 (the least friction taken, "
-                      "FRICTION_STATUS 3)", FrictionWarning, stacklevel=2)
+    corr = (put(corr[0], np.nan, failed), put(corr[1], np.nan, failed),
+            put(corr[2], np.nan, failed), put(corr[3], np.nan, failed),
+            put(corr[4], np.nan, failed), put(corr[5], np.nan, failed),
+            put(corr[6], np.nan, failed), put(corr[7], np.nan, failed),
+            put(corr[8], np.nan, failed))
     # each pin's loss from the reported force: mu r |F| |relative rotation|
-    final = torques([f0_f[i] + corr[i] for i in range(8)])
-    rel = [np.abs(flat(w)) for w in (TH2D, TH3D - TH2D, TH4D - TH3D, TH4D)]
-    loss = [np.where(sg[i] == 0.0, 0.0, final[i] * rel[i]) for i in range(4)]
-    for x in loss:
-        x[failed] = np.nan
-    out = corr + loss + [iterations, status]
-    return tuple(x.reshape(shape) for x in out)
+    final = _torques(mur, _plus(f0, corr))
+    rel = (np.abs(flat(TH2D, shape)), np.abs(flat(TH3D - TH2D, shape)),
+           np.abs(flat(TH4D - TH3D, shape)), np.abs(flat(TH4D, shape)))
+    loss = (put(np.where(sg[0] == 0.0, 0.0, final[0] * rel[0]), np.nan, failed),
+            put(np.where(sg[1] == 0.0, 0.0, final[1] * rel[1]), np.nan, failed),
+            put(np.where(sg[2] == 0.0, 0.0, final[2] * rel[2]), np.nan, failed),
+            put(np.where(sg[3] == 0.0, 0.0, final[3] * rel[3]), np.nan, failed))
+    return (shaped(corr[0], shape), shaped(corr[1], shape), shaped(corr[2], shape),
+            shaped(corr[3], shape), shaped(corr[4], shape), shaped(corr[5], shape),
+            shaped(corr[6], shape), shaped(corr[7], shape), shaped(corr[8], shape),
+            shaped(loss[0], shape), shaped(loss[1], shape), shaped(loss[2], shape),
+            shaped(loss[3], shape), shaped(iterations, shape), shaped(status, shape))
 
 
 @step(provides=("FRICTION_SOLUTIONS",),
@@ -261,39 +362,27 @@ def _friction_solutions(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0,
                         s4, s34):
     """How many solutions the law has at each position: 1 where it contracts (proved),
     else the search's count (friction_solve.py); asked for, it runs the search everywhere
-    the law need not contract, which the solve itself does only where it must."""
+    the law need not contract, which the solve itself does only where it must.  Numpy
+    only (the compiled backend refuses it, naming it)."""
     geo = (R3, R4, c3, s3, c4, s4, s34)
     f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
     shape = np.broadcast_shapes(*(np.shape(x) for x in f0 + geo + (TH2D, TH3D, TH4D)))
 
-    def flat(x):
+    def flat_(x):
         return np.broadcast_to(np.asarray(x, dtype=float), shape).reshape(-1)
 
-    geo_f, f0_f = [flat(x) for x in geo], [flat(x) for x in f0]
-    sg = [flat(x) for x in _signs(TH2D, TH3D, TH4D)]
+    geo_f, f0_f = [flat_(x) for x in geo], tuple(flat_(x) for x in f0)
+    sg = tuple(flat_(x) for x in _signs(TH2D, TH3D, TH4D))
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    finite = np.all(np.isfinite(np.array(f0_f + geo_f)), axis=0)
+    finite = np.all(np.isfinite(np.array(list(f0_f) + geo_f)), axis=0)
     count = np.where(finite, 1.0, 0.0)
-    hard, _, solved = _where_not_contracting(mur, finite, f0_f, sg, geo_f, count_all=True)
-    if solved is not None:
-        count[hard] = solved[1]
+    R3, R4, c3, s3, c4, s4, s34 = geo_f
+    hard = np.flatnonzero(finite & ~(contraction(mur, R3, R4, s34) < 1.0))
+    if hard.size:
+        count[hard] = solve(tuple(f[hard] for f in f0_f), mur, tuple(s_[hard] for s_ in sg),
+                            R3[hard], R4[hard], c3[hard], s3[hard], c4[hard], s4[hard],
+                            s34[hard], count_all=True)[2]
     return count.reshape(shape)
-
-
-def _where_not_contracting(mur, finite, f0_f, sg, geo, count_all=False):
-    """The positions where the law need not contract (friction_solve.contraction >= 1),
-    the frictionless pin forces there as (FA32, FB34, FOA, FOB) pairs, and ``solve``'s
-    answer there (None where there is no such position); ``geo``: R3, R4, c3, s3, c4,
-    s4, s34, flat."""
-    R3, R4, c3, s3, c4, s4, s34 = geo
-    with np.errstate(all="ignore"):
-        hard = np.flatnonzero(finite & ~(contraction(mur, R3, R4, s34) < 1.0))
-    if not hard.size:
-        return hard, [], None
-    pairs = [np.stack([f0_f[j][hard], f0_f[j + 1][hard]], axis=-1) for j in (0, 2, 4, 6)]
-    return hard, pairs, solve(pairs, mur, [s_[hard] for s_ in sg], R3[hard], R4[hard],
-                              c3[hard], s3[hard], c4[hard], s4[hard], s34[hard],
-                              count_all=count_all)
 
 
 def mu_r(scene: Any) -> dict[str, float]:

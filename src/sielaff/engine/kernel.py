@@ -18,6 +18,11 @@ How one function serves both engines
     form: the request is refused in one line naming the step and its effect, so an effect
     added to a model is compiled, or refused, from its own code.
 
+The loop runs the plan's steps in an order that keeps fewer values alive at once
+(``_schedule``) and stores each output as soon as it is known: the loop's body is
+hundreds of vector instructions, and a value alive across it holds a register or a
+spill slot.
+
 A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
 an output that depends on the position is NaN where the loop cannot close (the model's
 ``counts`` name is NaN there), a skipped step's 0.0 included.
@@ -34,10 +39,11 @@ from typing import Any, Literal
 
 from sielaff.engine.registry import Model, Plan, Step
 
-__all__ = ["Uncompilable", "kernel_for", "kernel_source"]
+__all__ = ["Uncompilable", "counts_assembly", "kernel_for", "kernel_source"]
 
 _LOCK = threading.RLock()
 _FORMS: dict[Any, Any] = {}
+_ARRAY_CODE: set[Any] = set()  # the functions that are or call array code (arith.array_code)
 _ONE: list[Any] = []
 _BUSY: set[Any] = set()
 _MAX_INLINED_ARGS = 30  # CPython's STACK_USE_GUIDELINE
@@ -83,20 +89,26 @@ def scalar_form(fn: Any) -> Any:
         if fn in _BUSY:
             raise Uncompilable(f"{fn.__name__} calls itself")
         glob = dict(fn.__globals__)
-        glob["np"] = np1
+        arrays = getattr(fn, "__sielaff_array_code__", False)  # arith.array_code
+        if not arrays:  # array code keeps numba's own numpy (arrays at one position)
+            glob["np"] = np1
         _BUSY.add(fn)
         try:
             for name in _names(fn.__code__):
                 v = glob.get(name)
-                if isinstance(v, types.FunctionType) and (v in twins or _package_function(v)):
+                if _package_function(v):  # (twins are the package's functions too)
                     glob[name] = scalar_form(v)
+                    arrays = arrays or v in _ARRAY_CODE
         finally:
             _BUSY.discard(fn)
+        if arrays:
+            _ARRAY_CODE.add(fn)
         f = types.FunctionType(fn.__code__, glob, fn.__name__, fn.__defaults__)
-        # a call of more than 30 arguments is compiled by CPython as f(*args), which
-        # numba's inliner refuses: such a step is called (LLVM may still inline it)
+        # array code is called, not inlined; so is a function of more than 30 arguments
+        # (CPython compiles such a call as f(*args), which numba's inliner refuses; LLVM
+        # may still inline it)
         inline: Literal["always", "never"] = (
-            "always" if fn.__code__.co_argcount <= _MAX_INLINED_ARGS else "never")
+            "never" if arrays or fn.__code__.co_argcount > _MAX_INLINED_ARGS else "always")
         _FORMS[fn] = numba.njit(error_model="numpy", nogil=True, inline=inline)(f)
         return _FORMS[fn]
 
@@ -136,15 +148,33 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         body.append(f"{v(name)} = " + (records[0] if single else
                                        "(" + ", ".join(records) + ",)"))
     called: list[Step] = []
+    counts = counts_assembly(model, order)
     counted = False
-    for st, skipped, _ in order:
+    slot = {name: j for j, name in enumerate(wanted)}
+    waiting: list[str] = []
+
+    def store(names: Any) -> None:
+        # each output stored as soon as it is known: a value kept to the end of the loop's
+        # body would hold a register (or a spill slot) all the way there; one that is NaN
+        # where the loop cannot close waits until that is known
+        for name in names:
+            if name not in slot:
+                continue
+            value = v(name)
+            if counts and name not in seeded and model.needs_assembly(name):
+                if not counted:
+                    waiting.append(name)
+                    continue
+                value = f"_select(_ok, {value}, _NAN)"
+            body.append(f"_out{slot.pop(name)}[i] = {value}")
+
+    store([w for w in wanted if w in seeded])
+    for st, skipped, _ in _schedule(order):
         if skipped:
             body += [f"{v(p)} = 0.0" for p in st.provides]
         else:
             args = ", ".join(v(n) for n in st.needs)
             targets = ", ".join(v(p) for p in st.provides)
-            if len(st.provides) > 1:
-                targets = f"({targets},)" if len(st.provides) == 1 else targets
             body.append(f"{targets} = _s{len(called)}({args})")
             called.append(st)
         if model.counts in st.provides and not skipped:
@@ -152,11 +182,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
             c = v(model.counts)
             body.append(f"_ok = {c} == {c}")
             body.append("_bad += _select(_ok, 0, 1)")
-    for j, name in enumerate(wanted):
-        value = v(name)
-        if counted and name not in seeded and model.needs_assembly(name):
-            value = f"_select(_ok, {value}, _NAN)"
-        body.append(f"_out{j}[i] = {value}")
+            store(waiting)
+        store(st.provides)
     params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
         f"_out{j}" for j in range(len(wanted))]
     src = "\n".join([f"def kernel({', '.join(params)}):",
@@ -165,6 +192,45 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                      *("        " + line for line in body),
                      "    return _bad", ""])
     return src, called
+
+
+def counts_assembly(model: Model, order: Plan) -> bool:
+    """Whether the plan solves the loop (runs the step of the model's ``counts`` name):
+    then the kernel counts the positions that cannot assemble and its outputs are NaN
+    there."""
+    return model.counts is not None and any(
+        model.counts in st.provides and not skipped for st, skipped, _ in order)
+
+
+def _schedule(order: Plan) -> Plan:
+    """The plan's steps reordered to keep few values alive at once (each value of the
+    loop's body holds a register, or a spill slot, from its step to its last use): of
+    the steps whose inputs are known, the one that ends the most values' lives and starts
+    the fewest, ties in the plan's order."""
+    uses: dict[str, int] = {}
+    for st, skipped, _ in order:
+        for name in () if skipped else st.needs:
+            uses[name] = uses.get(name, 0) + 1
+    made = {p for st, _, _ in order for p in st.provides}
+    known = {n for n in uses if n not in made}
+    left = list(order)
+    out: list[tuple[Step, bool, tuple[str, ...]]] = []
+    while left:
+        best, score = 0, None
+        for j, (st, skipped, _) in enumerate(left):
+            needs = () if skipped else st.needs
+            if not all(n in known for n in needs):
+                continue
+            ends = sum(1 for n in set(needs) if uses[n] == needs.count(n))
+            starts = sum(1 for p in st.provides if uses.get(p, 0))
+            if score is None or ends - starts > score:
+                best, score = j, ends - starts
+        st, skipped, drop = left.pop(best)
+        for n in () if skipped else st.needs:
+            uses[n] -= 1
+        known.update(st.provides)
+        out.append((st, skipped, drop))
+    return tuple(out)
 
 
 def _text(src: str) -> str:
@@ -281,10 +347,13 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         # at run time (its limit on those checks, 128, raised while the kernel compiles)
         # and if the loops over a scene's loads, springs and dampers are unrolled (a loop
         # over a tuple of records indexes it at run time; its body is large, so the limit
-        # on a full unroll's size is raised too, then set back to O3's 300)
+        # on a full unroll's size is raised too, then set back to O3's 300); not where a
+        # step calls array code (its fixed loops would be unrolled, for minutes, and its
+        # loop of iterations keeps the kernel's from being vectorised anyway)
+        unroll = not any(st.fn in _ARRAY_CODE for st in called)
         with _LLVM_OPTION:
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
-            llvm.set_option("", "-unroll-threshold=100000")
+            llvm.set_option("", f"-unroll-threshold={100000 if unroll else 300}")
             try:
                 kernel.compile((numba.types.int64,) + (f64,) * len(scalars)
                                + (ro,) * len(arrays) + (arr,) * len(wanted))

@@ -280,6 +280,51 @@ def _plus_one(a, b):  # statics.plus: a skipped step's 0.0 is the literal 0.0 he
     return a + b
 
 
+# arith's positions of a per-position iteration: at one position, whether it iterates
+def _shape_one(xs):  # arith.shape_of
+    return 0
+
+
+def _flat_one(x, shape):  # arith.flat
+    return float(x)
+
+
+def _filled_one(shape, value):  # arith.filled
+    return float(value)
+
+
+def _shaped_one(x, shape):  # arith.shaped
+    return x
+
+
+def _positions_one(mask):  # arith.positions: the position, if the mask holds there
+    return mask
+
+
+def _pick_one(x, idx):  # arith.pick
+    return x
+
+
+def _narrow_one(idx, keep):  # arith.narrow
+    return idx & keep
+
+
+def _none_one(idx):  # arith.none
+    return not idx
+
+
+def _scatter_one(dst, idx, value, where):  # arith.scatter
+    return _select(idx & where, value, dst)
+
+
+def _batch_one(x, idx):  # arith.batch: an array of one for array code
+    return np.full(1, x)
+
+
+def _unbatch_one(x):  # arith.unbatch
+    return x[0]
+
+
 def _linear_one(rows, rhs):  # joints.linear: Gaussian elimination, partial pivoting
     n = len(rhs)
     a = np.empty((n, n + 1))
@@ -357,7 +402,12 @@ def one_position():
     for name, f in _ONE_POSITION.items():
         setattr(ns, name, jit(types.FunctionType(f.__code__, glob, f.__name__, f.__defaults__)))
     twins = {arith.owned: _owned, arith.put: _put_one, arith.mod360: _mod360,
-             statics.plus: _plus_one, values.at: _at_one, joints.linear: _linear_one}
+             statics.plus: _plus_one, values.at: _at_one, arith.shape_of: _shape_one,
+             arith.flat: _flat_one, arith.filled: _filled_one, arith.shaped: _shaped_one,
+             arith.positions: _positions_one, arith.pick: _pick_one,
+             arith.narrow: _narrow_one, arith.none: _none_one, arith.scatter: _scatter_one,
+             arith.batch: _batch_one, arith.unbatch: _unbatch_one,
+             joints.linear: _linear_one}
     forms = {k: compiled.get(f.__name__) or jit(types.FunctionType(f.__code__, glob, f.__name__))
              for k, f in twins.items()}
     return ns, forms

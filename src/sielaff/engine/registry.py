@@ -48,6 +48,9 @@ class Step:
     zero_when: tuple[str, ...] = ()  # every name any group below uses
     zero_groups: tuple[tuple[str, ...], ...] = ()  # zero if all of one group are zero
     per_link: bool = False  # written for one link: fn(k, *needs), k the link's number
+    #: (names, fn): after the step, on either backend, ``fn(*values of names)`` (some of
+    #: its outputs) issues the step's warnings (compiled code cannot warn)
+    warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
 
 
 def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
@@ -58,7 +61,8 @@ def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
 
 
 def step(provides: Iterable[str], needs: Iterable[str] = (),
-         zero_when: Iterable[Any] = (), per_link: bool = False
+         zero_when: Iterable[Any] = (), per_link: bool = False,
+         warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
          ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Mark the decorated function as a step (``steps_of`` finds it; a model adds it).
 
@@ -70,7 +74,10 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     mass does not accelerate).  A step never changes its inputs (tests run the engine on
     read-only arrays).  ``per_link``: the function is written for one link, its first
     parameter the link's number (not a need); the model calls it for each moving link
-    and the step provides the tuple of their answers (:func:`per_link`).
+    and the step provides the tuple of their answers (:func:`per_link`).  ``warns``:
+    ``(names, fn)``, the step's warnings issued by ``fn`` from its outputs ``names``
+    after it runs (the model's ``warn``), so that the compiled backend, whose code cannot
+    warn, issues the same ones.
     """
     provides, needs = tuple(provides), tuple(needs)
     groups = _groups(zero_when)
@@ -80,8 +87,10 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
         params = tuple(inspect.signature(fn).parameters)[1 if per_link else 0:]
         if params != needs:
             raise TypeError(f"step {fn.__name__}: parameters {params} != needs {needs}")
+        if warns is not None and not set(warns[0]) <= set(provides):
+            raise TypeError(f"step {fn.__name__}: warns from {warns[0]}, not all provided")
         fn.__sielaff_step__ = Step(fn.__name__, fn, provides, needs, flat, groups,  # type: ignore[attr-defined]
-                                   per_link)
+                                   per_link, warns)
         return fn
 
     return decorate
@@ -535,6 +544,7 @@ class Model:
                     result = (result,)
                 for name, value in zip(st.provides, result, strict=True):
                     ns[name] = value
+                warn(st, ns)
                 if self.counts in st.provides:
                     mask = np.isnan(ns[self.counts])
                     not_assembled = int(np.count_nonzero(mask))
@@ -543,6 +553,13 @@ class Model:
             for name in drop:
                 del ns[name]
         return not_assembled
+
+
+def warn(st: Step, values: Mapping[str, Any]) -> None:
+    """The warnings of a step that has run (``Step.warns``), from its outputs ``values``."""
+    if st.warns is not None:
+        names, fn = st.warns
+        fn(*[values[n] for n in names])
 
 
 def _generated(name: str, params: tuple[str, ...], returns: list[str],
