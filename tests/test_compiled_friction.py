@@ -41,8 +41,8 @@ from sielaff import EXAMPLE, FrictionWarning, PinFriction, Scene, analyze  # noq
 from sielaff.engine.friction import per_joint  # noqa: E402
 from sielaff.engine.friction_solve import contraction  # noqa: E402
 from sielaff.engine.positions import reachable  # noqa: E402
-from test_elements import angles, draw  # noqa: E402
-from test_friction import CASES, FORCES, PLOSS, pin_force, scene_for  # noqa: E402
+from test_elements import draw  # noqa: E402
+from test_friction import CASES, FORCES, PLOSS, case_draw, pin_force  # noqa: E402
 from test_friction_solutions import NAMES as PIN_FORCES  # noqa: E402
 from test_friction_solutions import ROCKER, _law, _moderate  # noqa: E402
 
@@ -230,13 +230,7 @@ def test_compiled_friction_agrees_with_newton_euler(m, kind, branch, i):
     crank acceleration) on the compiled backend, against the independent Newton-Euler
     solve with friction iterated: pin forces, TORQ, the status of a pin at relative rest,
     and the losses by the Coulomb law from the reported forces."""
-    rng = np.random.default_rng(100 + i)
-    mus = {p: PinFriction(float(rng.uniform(0, 0.3)), float(rng.uniform(0, 0.1)))
-           for p in ne.PINS}
-    sc = scene_for(rng, branch, mus)
-    th = angles(m, branch)
-    if not len(th):
-        pytest.skip("no position away from a toggle")
+    _, sc, th = case_draw(m, branch, i)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", FrictionWarning)
         r = analyze(m, th, NAMES, scene=sc, backend="numba")

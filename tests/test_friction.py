@@ -46,9 +46,9 @@ def pin_force(r, pin, j):
     return float(np.hypot(r[n + "X"][j], r[n + "Y"][j]))
 
 
-@pytest.mark.parametrize("m, kind, branch, i", CASES,
-                         ids=[f"{c[1]}-{c[2]}-{c[3]}" for c in CASES])
-def test_friction_agrees_with_newton_euler_and_the_power_balance(m, kind, branch, i):
+def case_draw(m, branch, i):
+    """CASES' i-th draw: each pin's friction, the scene (every effect on) and the crank
+    angles away from toggles; skipped where there are none."""
     rng = np.random.default_rng(100 + i)
     mus = {p: PinFriction(float(rng.uniform(0, 0.3)), float(rng.uniform(0, 0.1)))
            for p in ne.PINS}
@@ -56,6 +56,13 @@ def test_friction_agrees_with_newton_euler_and_the_power_balance(m, kind, branch
     th = angles(m, branch)
     if not len(th):
         pytest.skip("no position away from a toggle")
+    return mus, sc, th
+
+
+@pytest.mark.parametrize("m, kind, branch, i", CASES,
+                         ids=[f"{c[1]}-{c[2]}-{c[3]}" for c in CASES])
+def test_friction_agrees_with_newton_euler_and_the_power_balance(m, kind, branch, i):
+    mus, sc, th = case_draw(m, branch, i)
     names = [n + c for n in FORCES for c in "XY"] + ["TORQ", "TORQ_FRICTION",
                                                      "FRICTION_STATUS", *PLOSS]
     r = analyze(m, th, names, scene=sc)

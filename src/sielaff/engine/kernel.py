@@ -21,7 +21,13 @@ How one function serves both engines
 The loop runs the plan's steps in an order that keeps fewer values alive at once
 (``_schedule``) and stores each output as soon as it is known: the loop's body is
 hundreds of vector instructions, and a value alive across it holds a register or a
-spill slot.
+spill slot.  With more than ``STAGE_FROM`` outputs the loop runs in chunks of ``CHUNK``
+positions whose outputs go to a small staging block first, copied out one output at a
+time after each chunk: a store to each of 71 arrays at each position is 71 streams of
+writes at once, more than a core's prefetchers follow, and every line then waits for its
+read-for-ownership (docs/performance.md measures both).  A step that calls array code
+(pin friction's iterations) cannot be vectorised: it runs in a loop over the chunk of
+its own, between the loops of the steps before and after it, which stay vectorised.
 
 A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
 an output that depends on the position is NaN where the loop cannot close (the model's
@@ -47,6 +53,11 @@ _ARRAY_CODE: set[Any] = set()  # the functions that are or call array code (arit
 _ONE: list[Any] = []
 _BUSY: set[Any] = set()
 _MAX_INLINED_ARGS = 30  # CPython's STACK_USE_GUIDELINE
+#: Outputs above which the loop stages them (see the module's doc; measured on the Xeon of
+#: docs/performance.md: 48 arrays written in the loop ran at the speed of filling them, 54
+#: at a third of it), the chunk of positions staged, and the staging rows' stagger: rows
+#: CHUNK + STAGGER floats apart fall in different cache sets.
+STAGE_FROM, CHUNK, STAGGER = 48, 512, 16
 
 
 class Uncompilable(ValueError):
@@ -128,11 +139,16 @@ Struct = tuple[str, type, bool, tuple[tuple[str, ...], ...]]
 
 def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                   scalars: tuple[str, ...], arrays: tuple[str, ...],
-                  structs: tuple[Struct, ...] = ()) -> tuple[str, list[Step]]:
+                  structs: tuple[Struct, ...] = (), serial: frozenset[str] = frozenset()
+                  ) -> tuple[str, list[Step]]:
     """The loop's source for this plan, and the steps it calls (``_s0``, ``_s1``, ...):
     ``kernel(n, <scalars>, <per-position arrays>, <one output array per wanted name>)``
     returns how many positions cannot assemble.  A record seed (``structs``) is built
-    from its leaves at each position (``_r0``, ... its type)."""
+    from its leaves at each position (``_r0``, ... its type).  The steps named in
+    ``serial`` (array code: a loop of iterations per position, which LLVM cannot
+    vectorise) run in a loop over each chunk of their own, the steps before and after
+    them in others, the values a later loop takes from an earlier one handed over in
+    rows of a block."""
     names: dict[str, str] = {}
 
     def v(name: str) -> str:
@@ -141,17 +157,44 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         return names[name]
 
     seeded = set(scalars) | set(arrays) | {st[0] for st in structs}
-    body: list[str] = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
+    sched = _schedule(order)
+    # phases: the steps that run serially (array code: a loop of iterations per position,
+    # which LLVM cannot vectorise) in odd phases of their own, the others in even ones,
+    # each phase after those of what it needs, so that the vectorisable steps stay so
+    level: dict[str, int] = {}
+    for st, skipped, _ in sched:
+        if skipped:
+            continue
+        at = max((level.get(n, 0) for n in st.needs), default=0)
+        at += (at % 2 == 0) if st.name in serial else at % 2
+        level.update(dict.fromkeys(st.provides, at))
+    n_phases = max(level.values(), default=0) + 1
+    staged = n_phases > 1 or len(wanted) > STAGE_FROM
+    target, index = ("_b", "_j") if staged else ("_out", "i")
+    reads = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
     for j, (name, _, single, leaves) in enumerate(structs):
         records = [f"_r{j}({', '.join(x[1:] if x[0] == '=' else v(x) for x in item)})"
                    for item in leaves]
-        body.append(f"{v(name)} = " + (records[0] if single else
-                                       "(" + ", ".join(records) + ",)"))
+        reads.append(f"{v(name)} = " + (records[0] if single else
+                                        "(" + ", ".join(records) + ",)"))
+    phases: list[list[str]] = [[] for _ in range(n_phases)]
+    taken: list[list[str]] = [[] for _ in range(n_phases)]  # each phase's handed values
+    zeros: list[str] = []  # the skipped steps' 0.0, in every phase
+    body = phases[0]
     called: list[Step] = []
     counts = counts_assembly(model, order)
     counted = False
     slot = {name: j for j, name in enumerate(wanted)}
     waiting: list[str] = []
+    crossing: list[str] = []  # the values a later phase takes from an earlier one
+    phase = 0
+
+    def take(name: str | None) -> None:  # ``name`` in the current phase
+        if name in level and level[name] < phase and name not in taken[phase]:
+            if name not in crossing:
+                crossing.append(name)
+                phases[level.get(name, 0)].append(f"_x{crossing.index(name)}[_j] = {v(name)}")
+            taken[phase].append(name)
 
     def store(names: Any) -> None:
         # each output stored as soon as it is known: a value kept to the end of the loop's
@@ -165,14 +208,19 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 if not counted:
                     waiting.append(name)
                     continue
+                take(model.counts)
                 value = f"_select(_ok, {value}, _NAN)"
-            body.append(f"_out{slot.pop(name)}[i] = {value}")
+            body.append(f"{target}{slot.pop(name)}[{index}] = {value}")
 
     store([w for w in wanted if w in seeded])
-    for st, skipped, _ in _schedule(order):
+    for st, skipped, _ in sched:
         if skipped:
-            body += [f"{v(p)} = 0.0" for p in st.provides]
+            zeros += [f"{v(p)} = 0.0" for p in st.provides]
         else:
+            phase = level[st.provides[0]]
+            body = phases[phase]
+            for n in st.needs:
+                take(n)
             args = ", ".join(v(n) for n in st.needs)
             targets = ", ".join(v(p) for p in st.provides)
             body.append(f"{targets} = _s{len(called)}({args})")
@@ -186,10 +234,27 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         store(st.provides)
     params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
         f"_out{j}" for j in range(len(wanted))]
-    src = "\n".join([f"def kernel({', '.join(params)}):",
-                     "    _bad = 0",
-                     "    for i in range(_n):",
-                     *("        " + line for line in body),
+    for k, lines in enumerate(phases):  # each phase starts from the inputs and its handed
+        handed = [f"{v(n)} = _x{crossing.index(n)}[_j]" for n in taken[k]]
+        if model.counts in taken[k]:
+            handed.append(f"_ok = {v(model.counts)} == {v(model.counts)}")
+        lines[:0] = reads + zeros + handed
+    row = CHUNK + STAGGER
+    if not staged:
+        loop = ["    for i in range(_n):", *("        " + line for line in phases[0])]
+    else:  # chunks: the outputs staged in _blk's rows, then copied out one by one
+        loop = [f"    _blk = _np.empty({len(wanted) * row})",
+                *(f"    _b{j} = _blk[{j * row}:{j * row + CHUNK}]" for j in range(len(wanted))),
+                f"    _xblk = _np.empty({len(crossing) * row})",
+                *(f"    _x{j} = _xblk[{j * row}:{j * row + CHUNK}]"
+                  for j in range(len(crossing))),
+                f"    for _c in range(0, _n, {CHUNK}):",
+                f"        _m = min({CHUNK}, _n - _c)"]
+        for lines in phases:
+            loop += ["        for _j in range(_m):", "            i = _c + _j",
+                     *("            " + line for line in lines)]
+        loop += [f"        _out{j}[_c:_c + _m] = _b{j}[:_m]" for j in range(len(wanted))]
+    src = "\n".join([f"def kernel({', '.join(params)}):", "    _bad = 0", *loop,
                      "    return _bad", ""])
     return src, called
 
@@ -315,19 +380,22 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         import math
 
         import numba
+        import numpy
 
-        src, called = kernel_source(model, order, wanted, scalars, arrays, structs)
-        glob: dict[str, Any] = {"_NAN": math.nan}
+        try:
+            forms = {st.fn: scalar_form(st.fn) for st, skipped, _ in order if not skipped}
+        except Uncompilable:  # the refusal names the step and its effect
+            _type_steps(order, scalars, arrays, structs, effect_of)
+            raise
+        serial = frozenset(st.name for st, skipped, _ in order
+                           if not skipped and st.fn in _ARRAY_CODE)
+        src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial)
+        glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
         from sielaff.engine.kernel_math import _intrinsics
 
         glob["_select"] = _intrinsics()[0]
-        try:
-            for j, st in enumerate(called):
-                glob[f"_s{j}"] = scalar_form(st.fn)
-        except Uncompilable:  # the refusal names the step and its effect
-            _type_steps(order, scalars, arrays, structs, effect_of)
-            raise
+        glob.update({f"_s{j}": forms[st.fn] for j, st in enumerate(called)})
         # what the text does not show: the derived steps' code, the records' types
         salt = "".join(getattr(st.fn, "__sielaff_source__", st.name) for st in called) + "".join(
             f"{st[1].__module__}.{st[1].__qualname__}" for st in structs)

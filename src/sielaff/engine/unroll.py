@@ -242,49 +242,49 @@ class _Leaf:
     i: int
 
 
+_WALK = object()  # a leaf rule's answer for a value it leaves to the walk
+
+
+def _map(v: Any, leaf: Callable[[Any], Any]) -> Any:
+    """``v`` rebuilt: each value ``x`` for which ``leaf(x)`` is not ``_WALK`` replaced by
+    that answer, else walked into (dataclasses, dicts, named tuples, tuples, lists) or
+    kept."""
+    out = leaf(v)
+    if out is not _WALK:
+        return out
+    if dataclasses.is_dataclass(v) and not isinstance(v, type):
+        return type(v)(**{f.name: _map(getattr(v, f.name), leaf) for f in dataclasses.fields(v)})
+    if isinstance(v, dict):
+        return {k: _map(w, leaf) for k, w in v.items()}
+    if isinstance(v, tuple) and hasattr(v, "_fields"):
+        return type(v)(*(_map(w, leaf) for w in v))
+    if isinstance(v, tuple):
+        return tuple(_map(w, leaf) for w in v)
+    if isinstance(v, list):
+        return [_map(w, leaf) for w in v]
+    return v
+
+
 def flatten(x: Any) -> tuple[list[Sym], Any]:
     """(the symbols of ``x``, each once, in order; ``x``'s skeleton: its structure with
     each symbol replaced by its index)."""
     syms: list[Sym] = []
     index: dict[int, int] = {}
 
-    def walk(v: Any) -> Any:
-        if isinstance(v, Sym):
-            if id(v) not in index:
-                index[id(v)] = len(syms)
-                syms.append(v)
-            return _Leaf(index[id(v)])
-        if dataclasses.is_dataclass(v) and not isinstance(v, type):
-            return type(v)(**{f.name: walk(getattr(v, f.name)) for f in dataclasses.fields(v)})
-        if isinstance(v, dict):
-            return {k: walk(w) for k, w in v.items()}
-        if isinstance(v, tuple) and hasattr(v, "_fields"):
-            return type(v)(*(walk(w) for w in v))
-        if isinstance(v, tuple):
-            return tuple(walk(w) for w in v)
-        if isinstance(v, list):
-            return [walk(w) for w in v]
-        return v
+    def leaf(v: Any) -> Any:
+        if not isinstance(v, Sym):
+            return _WALK
+        if id(v) not in index:
+            index[id(v)] = len(syms)
+            syms.append(v)
+        return _Leaf(index[id(v)])
 
-    return syms, walk(x)
+    return syms, _map(x, leaf)
 
 
 def rebuild(skeleton: Any, leaves: Sequence[Any]) -> Any:
     """The value of ``skeleton`` with its symbols' places filled from ``leaves``."""
-    if isinstance(skeleton, _Leaf):
-        return leaves[skeleton.i]
-    if dataclasses.is_dataclass(skeleton) and not isinstance(skeleton, type):
-        return type(skeleton)(**{f.name: rebuild(getattr(skeleton, f.name), leaves)
-                                 for f in dataclasses.fields(skeleton)})
-    if isinstance(skeleton, dict):
-        return {k: rebuild(w, leaves) for k, w in skeleton.items()}
-    if isinstance(skeleton, tuple) and hasattr(skeleton, "_fields"):
-        return type(skeleton)(*(rebuild(w, leaves) for w in skeleton))
-    if isinstance(skeleton, tuple):
-        return tuple(rebuild(w, leaves) for w in skeleton)
-    if isinstance(skeleton, list):
-        return [rebuild(w, leaves) for w in skeleton]
-    return skeleton
+    return _map(skeleton, lambda v: leaves[v.i] if isinstance(v, _Leaf) else _WALK)
 
 
 def nested(shape: Any) -> Any:
@@ -313,7 +313,7 @@ def _inputs(tape: _Tape, arg: str, skeleton: Any) -> Any:
     leaves: dict[int, Sym] = {}
     paths: dict[tuple[int, ...], Sym] = {}
 
-    def walk(v: Any) -> Any:
+    def leaf(v: Any) -> Any:
         if isinstance(v, _Leaf):
             if v.i not in leaves:
                 leaves[v.i] = tape.new(f"{arg}[{v.i}]")
@@ -322,19 +322,9 @@ def _inputs(tape: _Tape, arg: str, skeleton: Any) -> Any:
             if v.path not in paths:
                 paths[v.path] = tape.new(arg + "".join(f"[{i}]" for i in v.path))
             return paths[v.path]
-        if dataclasses.is_dataclass(v) and not isinstance(v, type):
-            return type(v)(**{f.name: walk(getattr(v, f.name)) for f in dataclasses.fields(v)})
-        if isinstance(v, dict):
-            return {k: walk(w) for k, w in v.items()}
-        if isinstance(v, tuple) and hasattr(v, "_fields"):
-            return type(v)(*(walk(w) for w in v))
-        if isinstance(v, tuple):
-            return tuple(walk(w) for w in v)
-        if isinstance(v, list):
-            return [walk(w) for w in v]
-        return v
+        return _WALK
 
-    return walk(skeleton)
+    return _map(skeleton, leaf)
 
 
 def unrolled(name: str, fn: Callable[..., Any], inputs: Sequence[Any], n_out: int,
