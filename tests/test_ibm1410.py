@@ -575,6 +575,10 @@ class OperatorLibrary:
         if not want_sin and self.A.choice["cos"] == "shift":
             return self.trig(abs(x) + self.hp, True)
         ax = abs(x)
+        # the notes' range of SIN and COS, |x| < 10000, else 0 (COS by the shift: from
+        # 10000 - pi/2 on)
+        if ax >= 10000.0:
+            return self.n(0)
         q = 0
         if ax >= self.hp:
             q = int(ax / self.hp)
@@ -666,6 +670,7 @@ class OperatorLibrary:
 @example(x=0.7853981633974483)
 @example(x=1.5707963)
 @example(x=3.14159265)
+@example(x=9999.0)  # COS by the shift: |x| + pi/2 out of SIN's range
 def test_library_is_the_documented_algorithm(A, x):
     ref = OperatorLibrary(A)
     x = A.num(x)
