@@ -309,6 +309,20 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         return lambda: engine.analyze(m, ath2, list(wanted), scene=scene, backend="numba")
 
     two = prepare(m, ath2, list(results), Scene())
+    from sielaff.engine import kernel as K
+
+    straight: dict = {}  # the unstaged kernels, apart from the backend's own
+    rows = dict(zip(results, compiled._fresh(len(results), n), strict=True))
+
+    def unstaged(fn):
+        def run():
+            saved = K.STAGE_FROM, K._KERNELS
+            K.STAGE_FROM, K._KERNELS = 10**9, straight
+            try:
+                fn()
+            finally:
+                K.STAGE_FROM, K._KERNELS = saved
+        return run
 
     def fresh_arrays(k):
         """What k fresh results cost without a kernel: the block the backend makes for them
@@ -343,6 +357,14 @@ def compiled_section(args, m, ath2, gfortran) -> int:
                                 scene=effects)),
         (f"no kernel: the block of {len(kin)} fresh results made and written once",
          fresh_arrays(len(kin))),
+        (f"`backend='numba'`, all {len(results)} results into reused arrays, written "
+         "straight from the loop (not staged: engine/kernel.py's STAGE_FROM raised)",
+         unstaged(lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results},
+                                         backend="numba"))),
+        (f"`backend='numba'`, all {len(results)} results into the rows of one block "
+         "(`out=`), staged", lambda: engine.analyze(m, ath2, out=rows, backend="numba")),
+        ("the same rows, written straight from the loop (not staged)",
+         unstaged(lambda: engine.analyze(m, ath2, out=rows, backend="numba"))),
     ]
     # friction, springs and dampers on: compiled, or refused (then only said)
     rubbing = Scene(friction=engine.PinFriction(0.1, 0.2), elements=effects.elements)
@@ -412,11 +434,15 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"gfortran** with `out=` ({goal(med[4], 3)}), {med[5]:.2f}x with fresh arrays; "
         f"the numpy engine on the same scene {med[11]:.2f}x.",
         (f"* Pin friction at the four pins (mu r = 0.02 in), a spring and a damper, `out=`: "
-         f"**{med[13]:.2f}x gfortran** ({goal(med[13], 3)}); the numpy engine on the same "
-         f"scene {med[14]:.2f}x." if friction == "compiled" else
+         f"**{med[16]:.2f}x gfortran** ({goal(med[16], 3)}); the numpy engine on the same "
+         f"scene {med[17]:.2f}x." if friction == "compiled" else
          f"* Pin friction: {friction} (goal: compiled, >= 3x: not met)."),
         f"* The floor: numpy's fill of the {len(results)} reused arrays alone is "
         f"{med[7]:.2f}x gfortran ({cpu[7]:.3f} s against the kernel's {cpu[0]:.3f} s).",
+        f"* The {len(results)} outputs staged in chunks of {K.CHUNK} positions and copied "
+        f"out one by one, or written straight from the loop: {cpu[0]:.3f} s and "
+        f"{cpu[13]:.3f} s into the arrays above (each made by np.empty), {cpu[14]:.3f} s "
+        f"and {cpu[15]:.3f} s into the rows of one block.",
         f"* Two threads (the kernel releases the GIL): {wall[6]:.2f}x gfortran in wall time "
         f"against {wall[0]:.2f}x on one thread ({med[6]:.2f}x in CPU time, the threads' "
         "CPU added).",

@@ -53,10 +53,10 @@ _ARRAY_CODE: set[Any] = set()  # the functions that are or call array code (arit
 _ONE: list[Any] = []
 _BUSY: set[Any] = set()
 _MAX_INLINED_ARGS = 30  # CPython's STACK_USE_GUIDELINE
-#: Outputs above which the loop stages them (see the module's doc; measured on the Xeon of
-#: docs/performance.md: 48 arrays written in the loop ran at the speed of filling them, 54
-#: at a third of it), the chunk of positions staged, and the staging rows' stagger: rows
-#: CHUNK + STAGGER floats apart fall in different cache sets.
+#: Outputs above which the loop stages them (see the module's doc: the kinematics' 48 and
+#: fewer are written straight, where the copy pass would cost a small kernel more than
+#: it saves), the chunk of positions staged (its rows stay in a core's L2 cache), and the
+#: staging rows' stagger: rows CHUNK + STAGGER floats apart fall in different cache sets.
 STAGE_FROM, CHUNK, STAGGER = 48, 512, 16
 
 
