@@ -8,15 +8,14 @@ unrolled into plain code, engine/unroll.py), compiled for one position; it diffe
 the numpy engine only in sin, cos and atan2 (an ulp or two) and in the joints' linear
 solve (LAPACK's there, Gaussian elimination with partial pivoting for one position
 here): both backward stable, so both engines are held to one error bound, derived as
-the four-bar's is (engine/accuracy.py), dyad by dyad:
+the four-bar's is, dyad by dyad (engine/accuracy.py's chain_bound and chain_scales):
 
     |error| <= C eps (L / l)^d S / s^p,    s = s_1 s_2 ... s_d
 
 with d the number of dyads, L the sum of the lengths, l the shortest of a dyad's links,
 s_i the i-th dyad's own conditioning (the engine's assembly margin: |sin| of an RRR's
 angle at its inner pin, |cos| of a slider rod's angle to its guide, |s| / |PQ| for the
-inverted slider's block), S and p the output's kind's scale and power (accuracy.POWER,
-and :func:`_scales`, accuracy.scales for any linkage).  Each dyad's inputs carry the
+inverted slider's block), S and p the output's kind's scale and power.  Each dyad's inputs carry the
 errors of the dyads before it, which it multiplies by (L / l) / s_i, as the four-bar's
 one dyad multiplies A's and O4's.  Against the 40-digit reference each engine is held to
 the bound; against each other, to twice it.
@@ -51,7 +50,7 @@ from sielaff import (
     analyze,
 )
 from sielaff.engine import AssemblyWarning, model_for
-from sielaff.engine.accuracy import EPS, POWER, C
+from sielaff.engine.accuracy import chain_bound, chain_scales
 from sielaff.engine.compiled import available
 from sielaff.engine.scene import scene_type
 from sielaff.quantities import unit
@@ -128,32 +127,10 @@ def _margins(kind, m, mo):
 
 
 def _scales(m, kind, applied):
-    """accuracy.scales for any linkage: the sum of the lengths (and the farthest point
-    placed on a link), the crank's rate through the shortest dyad link, the masses'
-    and inertias' loads at those rates, gravity and the applied loads."""
-    v = m.as_dict()
-    lengths = [abs(v[n]) for n in v if (n[:1] == "R" and n[1:2] in "123456C")
-               or n in ("X6", "Y6", "offset")]
-    dyad = [abs(v[n]) for n in m.TOPOLOGY.lengths() if n != "R2"]
-    # the inverted slider's block: its least distance from O4, |R1 - R2|
-    short = min(dyad) if dyad else max(abs(v["R1"] - v["R2"]), 1e-3 * abs(v["R1"]))
-    length = sum(lengths) + max(abs(v[n]) for n in v if n.startswith("RG"))
-    length += max(LOAD["r"], SPRING[0][1], SPRING[1][1])
-    w = abs(v["TH2D"])
-    rate = abs(v["R2"]) * w / short
-    angular = abs(v["R2"]) * (w * w + 35.0) / short + rate * rate
-    mass = sum(abs(v[n]) for n in v if n.startswith("W")) / 386.088
-    inertia = sum(abs(v[n]) for n in v if n.startswith("ZI"))
-    force = (mass * (length * angular + abs(GRAVITY)) + inertia * angular / short + applied)
-    return {"angle": 1.0, "length": length, "rate": rate, "velocity": length * rate,
-            "angular acceleration": angular, "acceleration": length * angular,
-            "force": force, "torque": length * force}, sum(lengths) / short
-
-
-def _bound(kind_of_output, scales, ratio, dyads, s):
-    if kind_of_output == "power":  # a torque times a rate (a pin's friction loss)
-        return _bound("torque", scales, ratio, dyads, s) * scales["rate"] / s ** POWER["rate"]
-    return C * EPS * ratio ** dyads * scales[kind_of_output] / s ** POWER[kind_of_output]
+    """accuracy.chain_scales in this file's scene: its crank acceleration, gravity, the
+    applied loads and the farthest point the load and the spring place on a link."""
+    return chain_scales(m, th2dd=35.0, gravity=abs(GRAVITY), applied=applied,
+                        reach=max(LOAD["r"], SPRING[0][1], SPRING[1][1]))
 
 
 def _point(mo, base, line, r, angle):
@@ -262,7 +239,7 @@ def test_each_kind_within_the_bound_of_the_40_digit_solve(kind, branch, backend)
             expected = _expected(kind, m, out)
             names |= set(expected)
             for name, exact in expected.items():
-                limit = _bound(KIND_OF_UNIT[unit(name)], scales, ratio, len(margins), s)
+                limit = chain_bound(KIND_OF_UNIT[unit(name)], ratio, len(margins), s, scales)
                 err = _error(name, float(got[name][i]), exact)
                 assert err <= limit, (kind, branch, m, float(t), name, err, limit)
                 worst = max(worst, err / limit)
@@ -309,14 +286,14 @@ def test_compiled_agrees_with_numpy_on_every_output(kind, branch):
             if name[0] == "D" and u == "deg" and name[1:] in a:  # a vector's direction
                 mag = np.asarray(a[name[1:]], float)
                 k = KIND_OF_UNIT[unit(name[1:])]
-                limit = 2 * _bound(k, scales, ratio, dyads, s) / mag
+                limit = 2 * chain_bound(k, ratio, dyads, s, scales) / mag
                 err = np.radians(np.abs((x - y + 180.0) % 360.0 - 180.0))
                 err = np.where(mag > 0.0, err, 0.0)
             elif u == "deg":  # an angle, modulo a revolution
-                limit = 2 * _bound("angle", scales, ratio, dyads, s)
+                limit = 2 * chain_bound("angle", ratio, dyads, s, scales)
                 err = np.radians(np.abs((x - y + 180.0) % 360.0 - 180.0))
             else:
-                limit = 2 * _bound(KIND_OF_UNIT[u], scales, ratio, dyads, s)
+                limit = 2 * chain_bound(KIND_OF_UNIT[u], ratio, dyads, s, scales)
                 err = np.abs(x - y)
             bad = ok & ~(err <= limit)
             assert not bad.any(), (kind, branch, name, err[bad], limit[bad])
