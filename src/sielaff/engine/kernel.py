@@ -193,7 +193,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         if name in level and level[name] < phase and name not in taken[phase]:
             if name not in crossing:
                 crossing.append(name)
-                phases[level.get(name, 0)].append(f"_x{crossing.index(name)}[_j] = {v(name)}")
+                phases[level[name]].append(f"_x{crossing.index(name)}[_j] = {v(name)}")
             taken[phase].append(name)
 
     def store(names: Any) -> None:
@@ -234,7 +234,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         store(st.provides)
     params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
         f"_out{j}" for j in range(len(wanted))]
-    for k, lines in enumerate(phases):  # each phase starts from the inputs and its handed
+    for k, lines in enumerate(phases):  # each phase starts from the inputs and what it is handed
         handed = [f"{v(n)} = _x{crossing.index(n)}[_j]" for n in taken[k]]
         if model.counts in taken[k]:
             handed.append(f"_ok = {v(model.counts)} == {v(model.counts)}")
@@ -416,8 +416,8 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         # and if the loops over a scene's loads, springs and dampers are unrolled (a loop
         # over a tuple of records indexes it at run time; its body is large, so the limit
         # on a full unroll's size is raised too, then set back to O3's 300); not where a
-        # step calls array code (its fixed loops would be unrolled, for minutes, and its
-        # loop of iterations keeps the kernel's from being vectorised anyway)
+        # step calls array code (its fixed loops would be unrolled, for minutes), which
+        # leaves the first phase's loop over a scene's springs and dampers rolled there
         unroll = not any(st.fn in _ARRAY_CODE for st in called)
         with _LLVM_OPTION:
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
