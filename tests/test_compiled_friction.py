@@ -1,8 +1,9 @@
 """Pin friction compiled (``backend="numba"``) from the numpy engine's own step.
 
-engine/friction.py's ``_friction`` is one definition for both engines (its fixed point on
-the positions still iterating, engine/arith.py; the law's solve where it need not contract,
-engine/friction_solve.py, array code).  Checked here, on the compiled backend:
+engine/friction.py's steps are one definition for both engines (its fixed point an
+iterated step, engine/iterate.py: compacted over arrays, passes over a chunk in the
+kernel; the law's solve where it need not contract, engine/friction_solve.py, array
+code).  Checked here, on the compiled backend:
 
 * against the numpy engine on drawn four-bars of several kinds, both branches, every
   reachable position (contracting and not, near toggles, self-locking ones): the same
@@ -22,7 +23,7 @@ engine/friction_solve.py, array code).  Checked here, on the compiled backend:
   effect on, and, where the law has several solutions, the law written again.
 
 Two kernels serve the file (friction and TEX; test_friction.py's scene of every effect),
-each compiled once (some 40 s) and then kept in the kernel cache.
+each compiled once (some 70 s) and then kept in the kernel cache.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """How the compiled backend lays out its work (engine/compiled.py, engine/kernel.py),
 checked without numba: the fresh results as rows of one block aligned to a huge page,
 the kernel's order of the plan's steps (a schedule that keeps fewer values alive, each
-step after what it needs), its outputs staged in chunks when there are many, and a
-serial step in a loop of its own; with numba, the staged loop's bits are the plain
-loop's at every chunk boundary."""
+step after what it needs), its outputs staged in chunks when there are many, a serial
+step in a loop of its own and an iterated step in passes; with numba, the staged loop's
+bits are the plain loop's at every chunk boundary."""
 
 from __future__ import annotations
 
@@ -117,24 +117,45 @@ def test_the_staged_loop_gives_the_plain_loops_bits(n, monkeypatch):
         np.testing.assert_array_equal(got[len(wanted) - 1][name], got[len(wanted)][name])
 
 
-def test_a_serial_step_runs_in_a_loop_of_its_own_between_vectorisable_ones():
-    """Pin friction's step calls array code (a loop of iterations at each position): it
-    runs in the middle one of three loops over each chunk, what it needs from the first
-    handed over in rows of a block, the steps after it in the third."""
+def _loops(src: str) -> list[tuple[int, str]]:
+    """Each loop over a chunk's positions in the source, in order: (its indent, its body)."""
+    lines = src.splitlines()
+    out = []
+    for k, line in enumerate(lines):
+        if line.strip() == "for _j in range(_m):":
+            indent = len(line) - len(line.lstrip())
+            body = itertools.takewhile(lambda x, d=indent: len(x) - len(x.lstrip()) > d,
+                                       lines[k + 1:])
+            out.append((indent, "\n".join(body) + "\n"))
+    return out
+
+
+def test_friction_runs_as_passes_and_its_serial_solve_in_a_loop_of_its_own():
+    """Pin friction's four steps: its start with the steps before it, its fixed point as
+    passes over the chunk (engine/iterate.py; tests/test_iterate.py), the solve where
+    the law need not contract (array code, serial) in a loop of its own, what it needs
+    handed over in rows of a block, the losses and the totals after."""
     scene = Scene(friction=engine.PinFriction(0.1, 0.2))
-    src = _source(engine.KINEMATIC_OUTPUTS[:4] + ("TORQ", "FA32"), scene,
-                  frozenset({"_friction"}))
-    loops = src.split("        for _j in range(_m):\n")
-    assert len(loops) == 4  # the prologue, then three phases
-    first, serial, after = loops[1:]
-    friction_call = "TORQ_FRICTION, PLOSS_O2"
-    assert friction_call in serial and friction_call not in first + after
-    assert "TORQ = _s" in after and "FA32 = _s" in after  # the totals after friction
-    assert "FA32X_0, FA32Y_0 = _s" in first  # the frictionless forces before it
-    handed = [line.split(" = ")[0].strip() for line in serial.splitlines() if " = _x" in line]
-    assert "FA32X_0" in handed and "s34" in handed
-    for name in handed:  # each handed value written by the first loop, once
-        assert first.count(f"] = {name}\n") == 1
-    assert "_ok = " in after  # the totals are NaN where the loop cannot close
-    # no serial step: one loop, as before
-    assert _source(("TORQ",), scene).count("for _j in range(_m)") == 0
+    wanted = engine.KINEMATIC_OUTPUTS[:4] + ("TORQ", "FA32")
+    src = _source(wanted, scene, frozenset({"_friction_solve"}))
+    loops = _loops(src)
+    assert [indent for indent, _ in loops] == [8, 8, 12, 8, 8, 8]
+    first, start, passes, end, serial, after = (body for _, body in loops)
+    assert "FA32X_0, FA32Y_0 = _s" in first  # the frictionless forces before friction
+    assert "ft_o2_0, ft_a_0, ft_b_0, ft_o4_0, friction_go = _s" in first
+    assert "= ft_o2_0\n" in start and "= friction_go\n" in start
+    assert "= _s" in passes and "if " not in passes and "_select(_go, " in passes
+    assert "fa32x_p = _x" in end
+    solve_call = "FRICTION_ITERATIONS, FRICTION_STATUS = _s"
+    assert solve_call in serial and solve_call not in first + passes + after
+    assert "TORQ = _s" in after and "FA32 = _s" in after and "_ok = " in after
+    written = first + start + passes
+    for line in serial.splitlines():  # each value handed to the serial loop written before
+        if " = _x" in line:
+            row = line.split(" = ")[1].strip()
+            assert f"{row} = " in written, line
+    # the solve not serial: it runs in the loop of the losses and totals
+    loops = _loops(_source(wanted, scene))
+    assert len(loops) == 5 and solve_call in loops[-1][1] and "TORQ = _s" in loops[-1][1]
+    # no friction: no iterated step, no serial one, one loop
+    assert _source(("TORQ",)).count("for _j in range(_m)") == 0

@@ -126,7 +126,7 @@ def test_friction_off_or_mu_zero_is_bit_for_bit_with_no_friction_step():
         steps = plan(["TORQ", "FA32", "SHAKM", "TORQ_INERTIA"], scene=sc)
         assert not any("friction" in s or "correction" in s for s in steps)
     on = plan(["TORQ"], scene=base.replace(friction=PinFriction(0.1, 0.2)))
-    assert "_friction" in on and "_corrections" in on
+    assert "_friction_fixed_point" in on and "_corrections" in on
 
 
 def test_one_pin_only_and_the_breakdown_adds_up():

@@ -6,12 +6,13 @@ standing for one position's arithmetic (:mod:`sielaff.engine.kernel_math`), wher
 these have their one-position forms.  Nothing else in a step may mutate an array it did
 not make, test for arrays, or look at a whole array.
 
-Beside ``owned``, ``put`` and ``mod360``, a step that iterates per position (pin
-friction's fixed point) works on the positions still iterating, found, narrowed and
-written back by the operations below: over arrays they compact (``positions`` the
-indices, ``pick`` the values there, ``narrow`` fewer of them, ``scatter`` the answers
-back); at one position the "positions" are whether it is still iterating, ``pick`` is
-the value itself and ``scatter`` a select.  ``shape_of``, ``flat``, ``filled`` and
+Beside ``owned``, ``put`` and ``mod360``, a step that works on some positions only (pin
+friction's solve where the law need not contract) finds them, picks its values there
+and writes its answers back by the operations below: over arrays they compact
+(``positions`` the indices, ``pick`` the values there, ``scatter`` the answers back); at
+one position the "positions" are whether it is one of them, ``pick`` is the value
+itself and ``scatter`` a select.  (A step iterated per position is declared with
+:func:`sielaff.engine.iterate.iterated`.)  ``shape_of``, ``flat``, ``filled`` and
 ``shaped`` take a step's inputs of any broadcast shape to flat arrays and back (at one
 position: the number itself).  Code that needs whole arrays even at one position (a
 search over many starts) is marked :func:`array_code`; ``batch`` hands it values at some
@@ -24,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["array_code", "batch", "filled", "flat", "mod360", "narrow", "none", "owned",
+__all__ = ["array_code", "batch", "filled", "flat", "mod360", "none", "owned",
            "pick", "positions", "put", "scatter", "shape_of", "shaped", "unbatch"]
 
 
@@ -92,11 +93,6 @@ def positions(mask: Any) -> Any:
 def pick(x: Any, idx: Any) -> Any:
     """``x`` at the positions ``idx`` (indices or a mask of the positions ``x`` has)."""
     return x[idx]
-
-
-def narrow(idx: Any, keep: Any) -> Any:
-    """The positions ``idx`` where ``keep`` (given at each of them) holds."""
-    return idx[keep]
 
 
 def none(idx: Any) -> bool:

@@ -32,12 +32,14 @@ answer), ``FRICTION_STATUS`` and ``FRICTION_SOLUTIONS``.  With mu = 0 at
 every pin (or no friction) no step here runs and every output is bit for bit as
 without friction.
 
-The step is written once for both engines: over arrays (the fixed point compacted to the
-positions still iterating) and, compiled by the numba backend, for one position (the
-same code, :mod:`sielaff.engine.arith`'s operations in their one-position forms; the
-solve where the law need not contract is array code, given an array of one).  Its
-FrictionWarning is declared with the step (``warns``) and issued by the model after it,
-on either backend.  ``FRICTION_SOLUTIONS`` is the numpy engine's only.
+The effect's steps are written once for both engines: the start, the fixed point's
+pass (an iterated step, :mod:`sielaff.engine.iterate`: over arrays the positions still
+iterating, in the compiled kernel passes over a chunk), the solve where the law need not
+contract (array code, given an array of one by the kernel) and the losses, compiled by
+the numba backend for one position with :mod:`sielaff.engine.arith`'s operations in
+their one-position forms.  The FrictionWarning is declared with the solve's step
+(``warns``) and issued by the model after it, on either backend.
+``FRICTION_SOLUTIONS`` is the numpy engine's only.
 """
 
 from __future__ import annotations
@@ -53,7 +55,6 @@ from sielaff.engine.arith import (
     batch,
     filled,
     flat,
-    narrow,
     none,
     pick,
     positions,
@@ -65,6 +66,7 @@ from sielaff.engine.arith import (
 )
 from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.friction_solve import contraction, solve
+from sielaff.engine.iterate import iterated
 from sielaff.engine.registry import Effect, step, step_of
 from sielaff.engine.statics import pins
 from sielaff.engine.values import check_value
@@ -234,6 +236,15 @@ def _scatter9(dst, idx, c, where):
             scatter(dst[8], idx, c[8], where))
 
 
+def _own9(c, shape):
+    """Copies of the nine corrections, the step's own to change (``scatter``)."""
+    return (put(filled(shape, 0.0), c[0], True), put(filled(shape, 0.0), c[1], True),
+            put(filled(shape, 0.0), c[2], True), put(filled(shape, 0.0), c[3], True),
+            put(filled(shape, 0.0), c[4], True), put(filled(shape, 0.0), c[5], True),
+            put(filled(shape, 0.0), c[6], True), put(filled(shape, 0.0), c[7], True),
+            put(filled(shape, 0.0), c[8], True))
+
+
 def _largest(a):
     """The largest of four values at each position (NaN if one is)."""
     return np.maximum(np.maximum(np.maximum(a[0], a[1]), a[2]), a[3])
@@ -253,20 +264,68 @@ def _warn_status(status):
                       "taken, FRICTION_STATUS 3)", FrictionWarning, stacklevel=2)
 
 
-@step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
-                "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4",
-                "FRICTION_ITERATIONS", "FRICTION_STATUS"),
-      needs=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4", "friction_tol", "friction_max_iter",
-             "FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0",
-             "FOBY_0", "TH2D", "TH3D", "TH4D", "R2", "R3", "R4", "c2", "s2", "c3", "s3",
-             "c4", "s4", "s34"),
-      zero_when=("MUR_O2", "MUR_A", "MUR_B", "MUR_O4"),
-      warns=(("FRICTION_STATUS",), _warn_status))
-def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
-              FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
-              TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    shape = shape_of((FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
-                      R2, R3, R4, c2, s2, c3, s3, c4, s4, s34, TH2D, TH3D, TH4D))
+_MUR = ("MUR_O2", "MUR_A", "MUR_B", "MUR_O4")
+_F0 = ("FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0", "FOBY_0")
+_GEO = ("R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34")
+_RATES = ("TH2D", "TH3D", "TH4D")
+# the nine corrections (the eight pin-force components, TORQ's) of the fixed point, then
+# of the solve where the law need not contract
+_FIXED = ("fa32x_p", "fa32y_p", "fb34x_p", "fb34y_p", "foax_p", "foay_p", "fobx_p",
+          "foby_p", "torq_p")
+_SOLVED = tuple(n[:-2] + "_h" for n in _FIXED)
+
+# The effect runs in four steps, so that the compiled kernel vectorises all but the
+# solve where the law need not contract (array code, rare): the start, the fixed point
+# (an iterated step: engine/iterate.py), that solve, and the losses.
+
+
+@step(provides=("ft_o2_0", "ft_a_0", "ft_b_0", "ft_o4_0", "friction_go"),
+      needs=_MUR + _F0 + ("c2", "s2", "c3", "s3", "c4", "s4", "s34"), zero_when=_MUR)
+def _friction_start(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0,
+                    FOAX_0, FOAY_0, FOBX_0, FOBY_0, c2, s2, c3, s3, c4, s4, s34):
+    """The fixed point's start, the frictionless pins' couples mu r |F0|, and where it
+    runs (1.0: every force and angle finite)."""
+    f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
+    finite = np.isfinite(f0[0])
+    for v in f0[1:] + (c2, s2, c3, s3, c4, s4, s34):
+        finite = finite & np.isfinite(v)
+    t = _torques((MUR_O2, MUR_A, MUR_B, MUR_O4), f0)
+    return t[0], t[1], t[2], t[3], np.where(finite, 1.0, 0.0)
+
+
+@iterated(provides=_FIXED + ("iterations_p",), limit="friction_max_iter",
+          go="friction_go", start=("ft_o2_0", "ft_a_0", "ft_b_0", "ft_o4_0"),
+          consts=_F0 + _RATES + _GEO + _MUR + ("friction_tol",), zero_when=_MUR)
+def _friction_fixed_point(t_O2, t_A, t_B, t_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0,
+                          FOAY_0, FOBX_0, FOBY_0, TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3,
+                          s3, c4, s4, s34, MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol):
+    """One pass of the fixed point: the couples T give the pin forces, and those the new
+    couples; done where no couple changed by more than tol times the largest."""
+    t = (t_O2, t_A, t_B, t_O4)
+    c = _forces(t, _signs(TH2D, TH3D, TH4D), (R2, R3, R4, c2, s2, c3, s3, c4, s4, s34))
+    new = _torques((MUR_O2, MUR_A, MUR_B, MUR_O4), _plus(
+        (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0), c))
+    change = _largest((np.abs(new[0] - t[0]), np.abs(new[1] - t[1]),
+                       np.abs(new[2] - t[2]), np.abs(new[3] - t[3])))
+    scale = _largest(new)
+    blown = ~np.isfinite(scale)
+    done = (change <= friction_tol * scale) & ~blown  # False for NaN and inf
+    return (new[0], new[1], new[2], new[3], c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7],
+            c[8], done, ~done & ~blown)
+
+
+@step(provides=_SOLVED + ("FRICTION_ITERATIONS", "FRICTION_STATUS"),
+      needs=_MUR + _FIXED + ("iterations_p", "friction_go") + _F0 + _RATES + _GEO,
+      zero_when=_MUR, warns=(("FRICTION_STATUS",), _warn_status))
+def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb34y_p,
+                    foax_p, foay_p, fobx_p, foby_p, torq_p, iterations_p, friction_go,
+                    FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
+                    TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
+    """The fixed point's answer, or the solve's where the law need not contract, and the
+    status of each position."""
+    shape = shape_of((fa32x_p, friction_go, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0,
+                      FOAY_0, FOBX_0, FOBY_0, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34, TH2D,
+                      TH3D, TH4D))
     geo = (flat(R2, shape), flat(R3, shape), flat(R4, shape), flat(c2, shape),
            flat(s2, shape), flat(c3, shape), flat(s3, shape), flat(c4, shape),
            flat(s4, shape), flat(s34, shape))
@@ -277,33 +336,11 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
     sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
           flat(signs[3], shape))
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    finite = np.isfinite(f0[0])
-    for v in f0[1:] + geo[3:]:
-        finite = finite & np.isfinite(v)
-    corr = (filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0),
-            filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0), filled(shape, 0.0),
-            filled(shape, 0.0))
-    iterations = filled(shape, 0.0)
-    # the fixed point, at the positions still iterating (idx)
-    idx = positions(finite)
-    f0_i, sg_i, geo_i = _pick8(f0, idx), _pick4(sg, idx), _pick10(geo, idx)
-    t = _torques(mur, f0_i)
-    for k in range(1, int(friction_max_iter) + 1):
-        c = _forces(t, sg_i, geo_i)
-        new = _torques(mur, _plus(f0_i, c))
-        change = _largest((np.abs(new[0] - t[0]), np.abs(new[1] - t[1]),
-                           np.abs(new[2] - t[2]), np.abs(new[3] - t[3])))
-        scale = _largest(new)
-        blown = ~np.isfinite(scale)
-        done = (change <= friction_tol * scale) & ~blown  # False for NaN and inf
-        corr = _scatter9(corr, idx, c, done)
-        iterations = scatter(iterations, idx, float(k), done)
-        keep = ~done & ~blown
-        idx = narrow(idx, keep)
-        t, f0_i = _pick4(new, keep), _pick8(f0_i, keep)
-        sg_i, geo_i = _pick4(sg_i, keep), _pick10(geo_i, keep)
-        if none(idx):
-            break
+    corr = (flat(fa32x_p, shape), flat(fa32y_p, shape), flat(fb34x_p, shape),
+            flat(fb34y_p, shape), flat(foax_p, shape), flat(foay_p, shape),
+            flat(fobx_p, shape), flat(foby_p, shape), flat(torq_p, shape))
+    iterations = flat(iterations_p, shape)
+    finite = flat(friction_go, shape) != 0.0
     status = np.where((sg[0] == 0.0) | (sg[1] == 0.0) | (sg[2] == 0.0) | (sg[3] == 0.0),
                       1.0, 0.0)
     # where the law need not be a contraction, every solution it has (friction_solve.py)
@@ -326,30 +363,42 @@ def _friction(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol, friction_max_iter,
         t_new = _torques(mur, (f_h[0] + x0 * -1.0, f_h[1] + x1 * -1.0, f_h[2] + x0 * 1.0,
                                f_h[3] + x1 * 1.0, f_h[4] + x0 * -1.0, f_h[5] + x1 * -1.0,
                                f_h[6] + x0 * 1.0, f_h[7] + x1 * 1.0))
-        corr = _scatter9(corr, hard, _forces(t_new, _pick4(sg, hard), _pick10(geo, hard)),
-                         new_x)
-        iterations = scatter(iterations, hard, 0.0, new_x)
+        corr = _scatter9(_own9(corr, shape), hard,
+                         _forces(t_new, _pick4(sg, hard), _pick10(geo, hard)), new_x)
+        iterations = scatter(put(filled(shape, 0.0), iterations, True), hard, 0.0, new_x)
         status = scatter(status, hard, np.where(found == 0.0, pick(status, hard), found),
                          new_x)
-    failed = ~finite | (status == 2.0)
-    corr = (put(corr[0], np.nan, failed), put(corr[1], np.nan, failed),
-            put(corr[2], np.nan, failed), put(corr[3], np.nan, failed),
-            put(corr[4], np.nan, failed), put(corr[5], np.nan, failed),
-            put(corr[6], np.nan, failed), put(corr[7], np.nan, failed),
-            put(corr[8], np.nan, failed))
-    # each pin's loss from the reported force: mu r |F| |relative rotation|
-    final = _torques(mur, _plus(f0, corr))
-    rel = (np.abs(flat(TH2D, shape)), np.abs(flat(TH3D - TH2D, shape)),
-           np.abs(flat(TH4D - TH3D, shape)), np.abs(flat(TH4D, shape)))
-    loss = (put(np.where(sg[0] == 0.0, 0.0, final[0] * rel[0]), np.nan, failed),
-            put(np.where(sg[1] == 0.0, 0.0, final[1] * rel[1]), np.nan, failed),
-            put(np.where(sg[2] == 0.0, 0.0, final[2] * rel[2]), np.nan, failed),
-            put(np.where(sg[3] == 0.0, 0.0, final[3] * rel[3]), np.nan, failed))
     return (shaped(corr[0], shape), shaped(corr[1], shape), shaped(corr[2], shape),
             shaped(corr[3], shape), shaped(corr[4], shape), shaped(corr[5], shape),
             shaped(corr[6], shape), shaped(corr[7], shape), shaped(corr[8], shape),
-            shaped(loss[0], shape), shaped(loss[1], shape), shaped(loss[2], shape),
-            shaped(loss[3], shape), shaped(iterations, shape), shaped(status, shape))
+            shaped(iterations, shape), shaped(status, shape))
+
+
+@step(provides=("fa32x_f", "fa32y_f", "fb34x_f", "fb34y_f", "foax_f", "foay_f", "fobx_f",
+                "foby_f", "TORQ_FRICTION", "PLOSS_O2", "PLOSS_A", "PLOSS_B", "PLOSS_O4"),
+      needs=_MUR + _SOLVED + ("FRICTION_STATUS", "friction_go") + _F0 + _RATES,
+      zero_when=_MUR)
+def _friction_losses(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_h, fa32y_h, fb34x_h, fb34y_h,
+                     foax_h, foay_h, fobx_h, foby_h, torq_h, FRICTION_STATUS, friction_go,
+                     FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
+                     TH2D, TH3D, TH4D):
+    """The corrections (NaN where the position has no answer) and each pin's loss."""
+    failed = (friction_go == 0.0) | (FRICTION_STATUS == 2.0)
+    corr = (np.where(failed, np.nan, fa32x_h), np.where(failed, np.nan, fa32y_h),
+            np.where(failed, np.nan, fb34x_h), np.where(failed, np.nan, fb34y_h),
+            np.where(failed, np.nan, foax_h), np.where(failed, np.nan, foay_h),
+            np.where(failed, np.nan, fobx_h), np.where(failed, np.nan, foby_h),
+            np.where(failed, np.nan, torq_h))
+    # each pin's loss from the reported force: mu r |F| |relative rotation|
+    final = _torques((MUR_O2, MUR_A, MUR_B, MUR_O4), _plus(
+        (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0), corr))
+    sg = _signs(TH2D, TH3D, TH4D)
+    rel = (np.abs(TH2D), np.abs(TH3D - TH2D), np.abs(TH4D - TH3D), np.abs(TH4D))
+    loss = (np.where(failed, np.nan, np.where(sg[0] == 0.0, 0.0, final[0] * rel[0])),
+            np.where(failed, np.nan, np.where(sg[1] == 0.0, 0.0, final[1] * rel[1])),
+            np.where(failed, np.nan, np.where(sg[2] == 0.0, 0.0, final[2] * rel[2])),
+            np.where(failed, np.nan, np.where(sg[3] == 0.0, 0.0, final[3] * rel[3])))
+    return corr + loss
 
 
 @step(provides=("FRICTION_SOLUTIONS",),
@@ -504,7 +553,9 @@ max_iter = 100                # ... and its iterations (PinFriction)
 # [scene.friction.O2]  mu = 0.1  radius = 0.5      (pins O2, A, B, O4)"""
 
 
-EFFECT = Effect("pin friction", (step_of(_friction), step_of(_friction_solutions)), _seed,
+EFFECT = Effect("pin friction", (step_of(_friction_start), step_of(_friction_fixed_point),
+                                   step_of(_friction_solve), step_of(_friction_losses),
+                                   step_of(_friction_solutions)), _seed,
                 torque="TORQ_FRICTION",
                 corrects={**{t: t.lower() + "_f" for t in TOTALS[:-1]},
                           "TORQ": "TORQ_FRICTION"},

@@ -26,8 +26,11 @@ positions whose outputs go to a small staging block first, copied out one output
 time after each chunk: a store to each of 71 arrays at each position is 71 streams of
 writes at once, more than a core's prefetchers follow, and every line then waits for its
 read-for-ownership (docs/performance.md measures both).  A step that calls array code
-(pin friction's iterations) cannot be vectorised: it runs in a loop over the chunk of
-its own, between the loops of the steps before and after it, which stay vectorised.
+(pin friction's solve where the law need not contract) cannot be vectorised: it runs in
+a loop over the chunk of its own, between the loops of the steps before and after it,
+which stay vectorised.  An iterated step (:mod:`sielaff.engine.iterate`: pin friction's
+fixed point) runs as passes over the chunk, each pass a loop with no branch in it (the
+positions that stopped keep their values by a select), until no position is left.
 
 A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
 an output that depends on the position is NaN where the loop cannot close (the model's
@@ -145,10 +148,11 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     ``kernel(n, <scalars>, <per-position arrays>, <one output array per wanted name>)``
     returns how many positions cannot assemble.  A record seed (``structs``) is built
     from its leaves at each position (``_r0``, ... its type).  The steps named in
-    ``serial`` (array code: a loop of iterations per position, which LLVM cannot
-    vectorise) run in a loop over each chunk of their own, the steps before and after
-    them in others, the values a later loop takes from an earlier one handed over in
-    rows of a block."""
+    ``serial`` (array code, which LLVM cannot vectorise) run in a loop over each chunk
+    of their own, an iterated step in passes over it (``_passes``), the steps before
+    and after them in others, the values a later loop takes from an earlier one handed
+    over in rows of a block.  Uncompilable if an iterated step's limit is not one
+    number."""
     names: dict[str, str] = {}
 
     def v(name: str) -> str:
@@ -158,17 +162,23 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
 
     seeded = set(scalars) | set(arrays) | {st[0] for st in structs}
     sched = _schedule(order)
-    # phases: the steps that run serially (array code: a loop of iterations per position,
-    # which LLVM cannot vectorise) in odd phases of their own, the others in even ones,
-    # each phase after those of what it needs, so that the vectorisable steps stay so
+    # phases: the steps that run serially (array code, which LLVM cannot vectorise) in
+    # phases of their own, an iterated step in one of its own (passes over the chunk),
+    # the others in the rest, each phase after those of what it needs, so that the
+    # vectorisable steps stay so
     level: dict[str, int] = {}
+    kinds = ["vector"]
     for st, skipped, _ in sched:
         if skipped:
             continue
+        kind = "iterate" if st.iterates else "serial" if st.name in serial else "vector"
         at = max((level.get(n, 0) for n in st.needs), default=0)
-        at += (at % 2 == 0) if st.name in serial else at % 2
+        if kinds[at] != kind or kind == "iterate":
+            at = next((p for p in range(at + 1, len(kinds)) if kinds[p] == kind != "iterate"),
+                      len(kinds))
+            kinds += [kind] * (at == len(kinds))
         level.update(dict.fromkeys(st.provides, at))
-    n_phases = max(level.values(), default=0) + 1
+    n_phases = len(kinds)
     staged = n_phases > 1 or len(wanted) > STAGE_FROM
     target, index = ("_b", "_j") if staged else ("_out", "i")
     reads = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
@@ -187,6 +197,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     slot = {name: j for j, name in enumerate(wanted)}
     waiting: list[str] = []
     crossing: list[str] = []  # the values a later phase takes from an earlier one
+    passes: dict[int, tuple[int, Step]] = {}  # an iterated step's phase: its _s, the step
     phase = 0
 
     def take(name: str | None) -> None:  # ``name`` in the current phase
@@ -216,6 +227,17 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     for st, skipped, _ in sched:
         if skipped:
             zeros += [f"{v(p)} = 0.0" for p in st.provides]
+        elif st.iterates:  # its passes write its answers into rows; its phase reads them
+            phase = level[st.provides[0]]
+            body = phases[phase]
+            if st.needs[0] not in scalars:
+                raise Uncompilable(f"{st.name}: its limit {st.needs[0]} is not one number")
+            for n in st.needs[1:]:
+                take(n)
+            passes[phase] = (len(called), st)
+            crossing += [*st.provides, *(f"#{st.name}{m}" for m in range(st.iterates[1] + 1))]
+            body += [f"{v(p)} = _x{crossing.index(p)}[_j]" for p in st.provides]
+            called.append(st)
         else:
             phase = level[st.provides[0]]
             body = phases[phase]
@@ -234,11 +256,13 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         store(st.provides)
     params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
         f"_out{j}" for j in range(len(wanted))]
+    starts: list[list[str]] = []
     for k, lines in enumerate(phases):  # each phase starts from the inputs and what it is handed
         handed = [f"{v(n)} = _x{crossing.index(n)}[_j]" for n in taken[k]]
         if model.counts in taken[k]:
             handed.append(f"_ok = {v(model.counts)} == {v(model.counts)}")
-        lines[:0] = reads + zeros + handed
+        starts.append(reads + zeros + handed)
+        lines[:0] = starts[k]
     row = CHUNK + STAGGER
     if not staged:
         loop = ["    for i in range(_n):", *("        " + line for line in phases[0])]
@@ -250,13 +274,54 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                   for j in range(len(crossing))),
                 f"    for _c in range(0, _n, {CHUNK}):",
                 f"        _m = min({CHUNK}, _n - _c)"]
-        for lines in phases:
+        for k, lines in enumerate(phases):
+            if k in passes:
+                loop += _passes(*passes[k], starts[k], v, crossing)
             loop += ["        for _j in range(_m):", "            i = _c + _j",
                      *("            " + line for line in lines)]
         loop += [f"        _out{j}[_c:_c + _m] = _b{j}[:_m]" for j in range(len(wanted))]
     src = "\n".join([f"def kernel({', '.join(params)}):", "    _bad = 0", *loop,
                      "    return _bad", ""])
     return src, called
+
+
+def _passes(j: int, st: Step, start: list[str], v: Any, crossing: list[str]) -> list[str]:
+    """An iterated step's loops over a chunk (engine/iterate.py): its rows set from its
+    start, then each pass over every position of the chunk, a select keeping the values
+    of the positions that stopped (no branch: LLVM vectorises the pass), until none is
+    left or the limit is reached."""
+    assert st.iterates is not None
+    n_state = st.iterates[1]
+    first, consts = st.needs[2:2 + n_state], st.needs[2 + n_state:]
+    row = {name: f"_x{crossing.index(name)}[_j]" for name in st.provides}
+    state = [f"_x{crossing.index(f'#{st.name}{m}')}[_j]" for m in range(n_state)]
+    go = f"_x{crossing.index(f'#{st.name}{n_state}')}[_j]"
+    results = [f"_yq{r}" for r in range(len(st.provides) - 1)]
+    head = ["for _j in range(_m):", "    i = _c + _j"]
+    return [*("        " + x for x in [
+        *head, *("    " + line for line in start),
+        *(f"    {state[m]} = {v(first[m])}" for m in range(n_state)),
+        f"    {go} = {v(st.needs[1])}",
+        *(f"    {row[p]} = 0.0" for p in st.provides),
+        f"for _it in range(1, int({v(st.needs[0])}) + 1):",
+        "    _itf = float(_it)",
+        "    _left = 0",
+        *("    " + x for x in [
+            *head, *("    " + line for line in start),
+            *(f"    _y{m} = {state[m]}" for m in range(n_state)),
+            "    " + ", ".join([f"_yn{m}" for m in range(n_state)] + results
+                               + ["_done", "_keep"])
+            + f" = _s{j}({', '.join([f'_y{m}' for m in range(n_state)] + [v(c) for c in consts])})",
+            f"    _a = {go} != 0.0",
+            "    _go = _a & _keep",
+            *(f"    {state[m]} = _select(_go, _yn{m}, _y{m})" for m in range(n_state)),
+            *(f"    {row[p]} = _select(_a & _done, {q}, {row[p]})"
+              for p, q in zip(st.provides[:-1], results, strict=True)),
+            f"    {row[st.provides[-1]]} = _select(_a & _done, _itf, {row[st.provides[-1]]})",
+            f"    {go} = _select(_go, 1.0, 0.0)",
+            "    _left += _go"]),
+        "    if _left == 0:",
+        "        break"])]
 
 
 def counts_assembly(model: Model, order: Plan) -> bool:
@@ -332,13 +397,18 @@ def _type_steps(order: Plan, scalars: tuple[str, ...], arrays: tuple[str, ...],
         if skipped:
             types_of.update(dict.fromkeys(st.provides, numba.float64))
             continue
+        n_state = st.iterates[1] if st.iterates else 0
         try:
-            ret = _typed(scalar_form(st.fn), st, [types_of[x] for x in st.needs])
+            ret = _typed(scalar_form(_code(st)), _code(st),
+                         [types_of[x] for x in st.needs[2 if st.iterates else 0:]])
         except Uncompilable as e:
             raise Uncompilable(_refusal(st, effect_of, str(e))) from None
         except Exception as e:  # numba's typing errors: the step has no compiled form
             raise Uncompilable(_refusal(st, effect_of, type(e).__name__)) from None
-        if len(st.provides) == 1:
+        if st.iterates:  # the results, then the count
+            types_of.update(zip(st.provides, tuple(ret.types)[n_state:-2] + (numba.float64,),
+                                strict=True))
+        elif len(st.provides) == 1:
             types_of[st.provides[0]] = ret
         else:
             types_of.update(zip(st.provides, ret, strict=True))
@@ -383,22 +453,23 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         import numpy
 
         try:
-            forms = {st.fn: scalar_form(st.fn) for st, skipped, _ in order if not skipped}
+            forms = {_code(st): scalar_form(_code(st)) for st, skipped, _ in order
+                     if not skipped}
         except Uncompilable:  # the refusal names the step and its effect
             _type_steps(order, scalars, arrays, structs, effect_of)
             raise
         serial = frozenset(st.name for st, skipped, _ in order
-                           if not skipped and st.fn in _ARRAY_CODE)
+                           if not skipped and _code(st) in _ARRAY_CODE)
         src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial)
         glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
         from sielaff.engine.kernel_math import _intrinsics
 
         glob["_select"] = _intrinsics()[0]
-        glob.update({f"_s{j}": forms[st.fn] for j, st in enumerate(called)})
+        glob.update({f"_s{j}": forms[_code(st)] for j, st in enumerate(called)})
         # what the text does not show: the derived steps' code, the records' types
-        salt = "".join(getattr(st.fn, "__sielaff_source__", st.name) for st in called) + "".join(
-            f"{st[1].__module__}.{st[1].__qualname__}" for st in structs)
+        salt = "".join(getattr(_code(st), "__sielaff_source__", st.name) for st in called)
+        salt += "".join(f"{st[1].__module__}.{st[1].__qualname__}" for st in structs)
         name = _name(src, salt)
         if not _cached(name):  # each step typed alone: a refusal names the one that fails
             _type_steps(order, scalars, arrays, structs, effect_of)
@@ -445,12 +516,17 @@ def _seed_types(scalars: tuple[str, ...], arrays: tuple[str, ...],
     return types_of
 
 
-def _typed(form: Any, st: Step, args: list[Any]) -> Any:
-    """The step compiled for these argument types (its defaults omitted): its return type."""
+def _code(st: Step) -> Any:
+    """The function the kernel calls for the step: its own, or an iterated step's pass."""
+    return st.iterates[0] if st.iterates else st.fn
+
+
+def _typed(form: Any, fn: Any, args: list[Any]) -> Any:
+    """``fn`` compiled for these argument types (its defaults omitted): its return type."""
     import numba
 
-    n_params = st.fn.__code__.co_argcount
-    defaults = st.fn.__defaults__ or ()
+    n_params = fn.__code__.co_argcount
+    defaults = fn.__defaults__ or ()
     omitted = [numba.types.Omitted(d) for d in defaults[len(defaults) - (n_params - len(args)):]
                ] if n_params > len(args) else []
     sig = tuple(args) + tuple(omitted)

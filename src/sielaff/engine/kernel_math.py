@@ -305,10 +305,6 @@ def _pick_one(x, idx):  # arith.pick
     return x
 
 
-def _narrow_one(idx, keep):  # arith.narrow
-    return idx & keep
-
-
 def _none_one(idx):  # arith.none
     return not idx
 
@@ -405,7 +401,7 @@ def one_position():
              statics.plus: _plus_one, values.at: _at_one, arith.shape_of: _shape_one,
              arith.flat: _flat_one, arith.filled: _filled_one, arith.shaped: _shaped_one,
              arith.positions: _positions_one, arith.pick: _pick_one,
-             arith.narrow: _narrow_one, arith.none: _none_one, arith.scatter: _scatter_one,
+             arith.none: _none_one, arith.scatter: _scatter_one,
              arith.batch: _batch_one, arith.unbatch: _unbatch_one,
              joints.linear: _linear_one}
     forms = {k: compiled.get(f.__name__) or jit(types.FunctionType(f.__code__, glob, f.__name__))

@@ -51,9 +51,12 @@ class Step:
     #: (names, fn): after the step, on either backend, ``fn(*values of names)`` (some of
     #: its outputs) issues the step's warnings (compiled code cannot warn)
     warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
+    #: (pass, state values): an iterated step (engine/iterate.py), ``fn`` its numpy form
+    iterates: tuple[Callable[..., Any], int] | None = None
 
 
-def _groups(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
+def zero_groups_of(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
+    """``zero_when`` of :func:`step` as groups of names (see there)."""
     items = tuple(zero_when)
     if all(isinstance(x, str) for x in items):
         return (items,) if items else ()
@@ -80,7 +83,7 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     warn, issues the same ones.
     """
     provides, needs = tuple(provides), tuple(needs)
-    groups = _groups(zero_when)
+    groups = zero_groups_of(zero_when)
     flat = tuple(dict.fromkeys(n for g in groups for n in g))
 
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -335,9 +338,12 @@ class Model:
         ``skip_zeros=False`` one that never skips a step (what the ``zero_when``
         declarations are checked against)."""
         def redo(s: Step) -> Step:
+            fn = wrap(s)  # an iterated step's pass is its own only while fn is
+            iterates = s.iterates if fn is s.fn else None
             if skip_zeros:
-                return dataclasses_replace(s, fn=wrap(s))
-            return dataclasses_replace(s, fn=wrap(s), zero_when=(), zero_groups=())
+                return dataclasses_replace(s, fn=fn, iterates=iterates)
+            return dataclasses_replace(s, fn=fn, iterates=iterates, zero_when=(),
+                                       zero_groups=())
 
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
                     breakdown=self.breakdown, counts=self.counts, params=self.own_params,
