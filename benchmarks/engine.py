@@ -402,6 +402,8 @@ def compiled_section(args, m, ath2, gfortran) -> int:
             d = np.abs((a[ok] - b[ok] + 180.0) % 360.0 - 180.0)
         worst = max(worst, float(np.max(d)) / max(float(np.max(np.abs(b[ok]))), 1e-300))
     same_nan = all(np.array_equal(np.isnan(got[k]), np.isnan(ref[k])) for k in results)
+    passes = float(np.mean(engine.analyze(m, ath2, ["FRICTION_ITERATIONS"], scene=rubbing)[
+        "FRICTION_ITERATIONS"])) if friction == "compiled" else 0.0
     med = [statistics.median(x.ratio("cpu")) for x in series]
     wall = [statistics.median(x.ratio("wall")) for x in series]
     cpu = [statistics.median(x.cpu) for x in series]
@@ -435,7 +437,9 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"the numpy engine on the same scene {med[11]:.2f}x.",
         (f"* Pin friction at the four pins (mu r = 0.02 in), a spring and a damper, `out=`: "
          f"**{med[16]:.2f}x gfortran** ({goal(med[16], 3)}); the numpy engine on the same "
-         f"scene {med[17]:.2f}x." if friction == "compiled" else
+         f"scene {med[17]:.2f}x.  The fixed point takes {passes:.2f} iterations a position "
+         "on average (FRICTION_ITERATIONS), run in the kernel as passes over each chunk "
+         "(engine/iterate.py)." if friction == "compiled" else
          f"* Pin friction: {friction} (goal: compiled, >= 3x: not met)."),
         f"* The floor: numpy's fill of the {len(results)} reused arrays alone is "
         f"{med[7]:.2f}x gfortran ({cpu[7]:.3f} s against the kernel's {cpu[0]:.3f} s).",

@@ -211,10 +211,12 @@ def _search(f0, k, sg, u0, u1, v0, v1, d, scale, cont0, cont1, alive, tol):
     count = np.zeros(m)
     status = np.full(m, 2.0)
     total = np.full((m, n_starts), np.inf)  # the friction of each converged root
-    for j in range(4):  # FA32 = FA32_0 - x, FB34 = FB34_0 + x, FOA = FOA_0 - x, FOB + x
+    # FA32 = FA32_0 - x (pin A), FB34 = FB34_0 + x (B), FOA = FOA_0 - x (O2), FOB + x (O4),
+    # each with its own pin's mu r (k: O2, A, B, O4)
+    for j, pin in enumerate((1, 2, 0, 3)):
         g0, g1 = (r0_all, r1_all) if j % 2 else (-r0_all, -r1_all)
         f = np.hypot(f0[2 * j][:, None] + g0, f0[2 * j + 1][:, None] + g1)
-        total = np.where(ok, np.where(np.isinf(total), 0.0, total) + k[j] * f, np.inf)
+        total = np.where(ok, np.where(np.isinf(total), 0.0, total) + k[pin] * f, np.inf)
     for i in range(m):
         r0, r1 = r0_all[i][ok[i]], r1_all[i][ok[i]]
         near = 1e-8 * (scale[i] + np.hypot(r0, r1))
