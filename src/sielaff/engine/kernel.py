@@ -488,8 +488,9 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         # over a tuple of records indexes it at run time; its body is large, so the limit
         # on a full unroll's size is raised too, then set back to O3's 300).  Array code
         # a serial step calls has its fixed loops unrolled with them: the friction kernel
-        # compiles in about 70 s instead of 45 (once; the kernel cache keeps it), while a
+        # compiled in about 70 s instead of 45 (once; the kernel cache keeps it), while a
         # rolled loop over the springs and dampers cost it 0.17 s per 10^6 positions
+        # (both measured before the fixed point ran in passes, engine/iterate.py)
         with _LLVM_OPTION:
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
             llvm.set_option("", "-unroll-threshold=100000")
