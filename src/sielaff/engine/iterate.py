@@ -26,21 +26,20 @@ from typing import Any
 
 import numpy as np
 
-from sielaff.engine.registry import Step, zero_groups_of
+from sielaff.engine.registry import Step, zero_when_of
 
 __all__ = ["iterated", "run"]
 
 
 def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
-             consts: Iterable[str], zero_when: Iterable[Any] = (),
-             warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
+             consts: Iterable[str], zero_when: Iterable[Any] = ()
              ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Mark the decorated pass as an iterated step (``steps_of`` finds it).
 
     The pass's parameters are the state's (one per name of ``start``, named as the pass
     likes) and then exactly ``consts``; it returns the new state, one result per name of
     ``provides`` but the last (the count), ``done`` and ``keep``.  The step needs
-    ``(limit, go, *start, *consts)``; ``zero_when`` and ``warns`` as :func:`registry.step`.
+    ``(limit, go, *start, *consts)``; ``zero_when`` as :func:`registry.step`'s.
     """
     provides, start, consts = tuple(provides), tuple(start), tuple(consts)
 
@@ -51,7 +50,6 @@ def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
         if params[len(start):] != consts or len(params) != len(start) + len(consts):
             raise TypeError(f"iterated step {body.__name__}: parameters {params} are not "
                             f"{len(start)} of the state's and then {consts}")
-        groups = zero_groups_of(zero_when)
         n_state, n_results = len(start), len(provides) - 1
 
         def numpy_form(*args: Any) -> Any:
@@ -60,8 +58,7 @@ def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
         numpy_form.__name__ = body.__name__
         body.__sielaff_step__ = Step(  # type: ignore[attr-defined]
             body.__name__, numpy_form, provides, (limit, go) + start + consts,
-            tuple(dict.fromkeys(n for g in groups for n in g)), groups, False, warns,
-            (body, n_state))
+            *zero_when_of(zero_when), iterates=(body, n_state))
         return body
 
     return decorate

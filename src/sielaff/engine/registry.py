@@ -55,12 +55,16 @@ class Step:
     iterates: tuple[Callable[..., Any], int] | None = None
 
 
-def zero_groups_of(zero_when: Iterable[Any]) -> tuple[tuple[str, ...], ...]:
-    """``zero_when`` of :func:`step` as groups of names (see there)."""
+def zero_when_of(zero_when: Iterable[Any]
+                 ) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+    """``zero_when`` of :func:`step` (see there) as Step holds it: every name any group
+    uses, and the groups."""
     items = tuple(zero_when)
     if all(isinstance(x, str) for x in items):
-        return (items,) if items else ()
-    return tuple((g,) if isinstance(g, str) else tuple(g) for g in items)
+        groups: tuple[tuple[str, ...], ...] = (items,) if items else ()
+    else:
+        groups = tuple((g,) if isinstance(g, str) else tuple(g) for g in items)
+    return tuple(dict.fromkeys(n for g in groups for n in g)), groups
 
 
 def step(provides: Iterable[str], needs: Iterable[str] = (),
@@ -83,8 +87,7 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     warn, issues the same ones.
     """
     provides, needs = tuple(provides), tuple(needs)
-    groups = zero_groups_of(zero_when)
-    flat = tuple(dict.fromkeys(n for g in groups for n in g))
+    flat, groups = zero_when_of(zero_when)
 
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
         params = tuple(inspect.signature(fn).parameters)[1 if per_link else 0:]
