@@ -497,26 +497,6 @@ def test_uncovered_effects_refused_in_one_line(scene, output, match):
     assert "\n" not in str(e.value)
 
 
-def test_pin_friction_on_every_other_kind_is_refused_in_one_line_naming_it():
-    """The other kinds compile (tests/test_compiled_kinds.py) but for their pin friction,
-    whose Newton solve has no one-position form: refused in one line naming the effect."""
-    from sielaff import PinFriction
-    from sielaff.engine.analysis import MODELS, model_for
-    from sielaff.engine.scene import scene_type
-    from sielaff.inverted_slider_crank import INVERTED_EXAMPLE
-    from sielaff.sixbar import STEPHENSON_EXAMPLE, WATT_EXAMPLE
-    from sielaff.slider_crank import SLIDER_EXAMPLE
-
-    kinds = (SLIDER_EXAMPLE, INVERTED_EXAMPLE, WATT_EXAMPLE, STEPHENSON_EXAMPLE)
-    assert len(kinds) == len(MODELS) - 1  # every model but the four-bar's
-    for m in kinds:
-        scene = scene_type(model_for(m))(friction=PinFriction(0.1, 0.5))
-        with pytest.raises(ValueError, match="has no compiled form of joint friction "
-                                             r"\(its step _joint_friction\)") as e:
-            analyze(m, np.linspace(0.0, 360.0, 5), ["TORQ"], scene=scene, backend="numba")
-        assert "\n" not in str(e.value)
-
-
 def test_analyze_dispatch_writes_into_out_and_matches():
     """``analyze(..., backend="numba")`` asks the kernel for the wanted names only and
     writes straight into ``out=`` (any shape of crank angles), every effect covered."""

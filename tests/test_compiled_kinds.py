@@ -22,7 +22,8 @@ the bound; against each other, to twice it.
 
 Designs are drawn (seeded) around each kind's example, both branches, and checked to
 assemble at the drawn crank angles; what was drawn and compared is counted.  The scene
-carries every effect these kinds take but pin friction (refused, tests/test_compiled.py):
+carries every effect these kinds take but friction (its compiled form is held to the
+40-digit reference and to the numpy engine in tests/test_joint_friction.py):
 a crank acceleration, gravity, an applied load (its force an array), a spring and a
 damper, and the slider-crank's FEX; the reference takes them as loads (the damper's
 coefficient is 0 there, its tension is then none).  Without numba the numpy engine is

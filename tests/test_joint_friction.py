@@ -1,7 +1,10 @@
 """Coulomb friction in the pins and slides of the linkage engine's kinds
 (engine/joint_friction.py) against an independent fixed-point Newton-Euler solve in 40
 digits (tests/linkage_reference.py), the power balance (the drive's power is the kinetic
-energy's rate plus every joint's loss), and what friction that is off costs (nothing)."""
+energy's rate plus every joint's loss), and what friction that is off costs (nothing).
+The compiled backend (``backend="numba"``, which runs the same three steps: engine/
+kernel.py) is held to the same reference and balance, and to the numpy engine's status
+and iterations where the solve needs the ramp from mu = 0 or finds no solution."""
 
 from __future__ import annotations
 
@@ -22,6 +25,11 @@ from sielaff import (
     scene_for,
 )
 from sielaff.engine import model_for
+from sielaff.engine.compiled import NOT_GIVEN, available
+from sielaff.engine.joint_friction import NEWTON
+
+BACKENDS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(
+    not available(), reason="numba is not installed"))]
 
 CASES = [("slider", SLIDER_EXAMPLE.replace(offset=0.6, ADEL3=8.0, TH2D=60.0)),
          ("inverted", INVERTED_EXAMPLE.replace(offset=0.8)),
@@ -41,6 +49,17 @@ def _scene(m, gravity="down"):
     return scene_for(m)(gravity=gravity, th2dd=-15.0, friction=friction)
 
 
+def _outputs(m, backend):
+    """Every output of the kind for numpy; for numba those the two tests below compare, so
+    that they share one kernel per kind (with every output a six-bar's kernel with
+    friction took 200 s of CPU to compile here, with these 62 s)."""
+    outputs = model_for(m).outputs
+    if backend == "numpy":
+        return outputs
+    return [n for n in outputs if n not in NOT_GIVEN
+            and n.startswith(("F", "MN", "TORQ", "PLOSS_", "AG", "VG", "TH"))]
+
+
 def _joints(m):
     from sielaff.engine.joint_friction import _names
 
@@ -57,12 +76,13 @@ def _force_name(m, p, by, on):
     return names.get(generic, generic)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("case", range(len(CASES)))
-def test_friction_is_the_independent_fixed_point(case):
+def test_friction_is_the_independent_fixed_point(case, backend):
     kind, m = CASES[case]
     compared = 0
     for th in (23.0, 141.0, 262.0):
-        r = analyze(m, [th], model_for(m).outputs, scene=_scene(m))
+        r = analyze(m, [th], _outputs(m, backend), scene=_scene(m), backend=backend)
         assert r["FRICTION_STATUS"][0] == 0.0
         out = ref.newton_euler(kind, m, th, m.TH2D, -15.0, branch=(1, 1),
                                gravity=(0.0, -386.088),
@@ -82,25 +102,27 @@ def test_friction_is_the_independent_fixed_point(case):
             assert float(r["MN"][0]) == pytest.approx(float(out["MN"]), abs=1e-10 * tscale)
     assert compared == 3 * len(ref.pins(kind))
     # and friction did something: TORQ moved by more than the tolerance
-    assert np.max(np.abs(analyze(m, [23.0, 141.0], ["TORQ_FRICTION"],
-                                 scene=_scene(m))["TORQ_FRICTION"])) > 1e-3 * tscale
+    assert np.max(np.abs(analyze(m, [23.0, 141.0], _outputs(m, backend), scene=_scene(m),
+                                 backend=backend)["TORQ_FRICTION"])) > 1e-3 * tscale
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("case", range(len(CASES)))
-def test_the_drive_power_is_the_energy_rate_plus_the_losses(case):
-    """TORQ TH2D = d(kinetic energy)/dt + sum of the joints' losses (no gravity: nothing
-    else works on the linkage), on the engine's own rates: an identity the friction
-    solve must satisfy, whatever the law's signs."""
+def test_the_drive_power_is_the_energy_rate_plus_the_losses(case, backend):
+    """TORQ TH2D = d(kinetic + potential energy)/dt + sum of the joints' losses (gravity
+    the only other force that works on the linkage: each weight W VGY), on the engine's
+    own rates: an identity the friction solve must satisfy, whatever the law's signs."""
     kind, m = CASES[case]
     th = np.arange(1.0, 360.0, 7.0)
     model = model_for(m)
-    r = analyze(m, th, model.outputs, scene=_scene(m, gravity=None))
+    r = analyze(m, th, _outputs(m, backend), scene=_scene(m), backend=backend)
     losses = sum(r[n] for n in model.outputs if n.startswith("PLOSS_"))
     assert np.all(losses >= 0.0)
     ke = 0.0
     for k in range(2, model.topology.links + 1):
         mass = float(getattr(m, f"W{k}", 0.0)) / 386.088
         ke = ke + mass * (r[f"AG{k}X"] * r[f"VG{k}X"] + r[f"AG{k}Y"] * r[f"VG{k}Y"])
+        ke = ke + mass * 386.088 * r[f"VG{k}Y"]
         zi = float(getattr(m, f"ZI{k}", 0.0))
         ke = ke + zi * (r[f"TH{k}DD"] * r[f"TH{k}D"] if k > 2 else -15.0 * m.TH2D)
     power = r["TORQ"] * m.TH2D
@@ -118,10 +140,13 @@ def test_friction_that_is_off_costs_nothing():
     model.calls.clear()
     off = analyze(m, th, model.results,
                   scene=scene_for(m)(gravity="down", friction=PinFriction(0.0, 1.0)))
-    assert "_joint_friction" not in model.calls
+    assert not [c for c in model.calls if c.startswith("_joint_friction")]
     for name in plain:
         np.testing.assert_array_equal(plain[name], off[name])
     # the scene says so as the four-bar's does (check and report ask it)
+    analyze(m, th, ["TORQ"], scene=scene_for(m)(friction=PinFriction(0.1, 1.0)))
+    assert {"_joint_friction_system", "_joint_friction_newton",
+            "_joint_friction_losses"} <= set(model.calls)  # the check above can fail
     assert not scene_for(m)(friction=PinFriction(0.0, 1.0)).has_friction
     assert scene_for(m)(friction=PinFriction(0.1, 1.0)).has_friction
 
@@ -166,6 +191,37 @@ def test_a_slide_that_locks_is_nan_and_said_so():
     assert 0 < locked.sum() < th.size
     np.testing.assert_array_equal(locked, counts == 0)
     assert np.all(np.isnan(r["TORQ"][locked])) and np.all(np.isfinite(r["TORQ"][~locked]))
+
+
+@pytest.mark.skipif(not available(), reason="numba is not installed")
+def test_compiled_where_the_ramp_is_needed_and_where_the_slide_locks():
+    """A slider-crank with mu = 3.5 at its guide and mu r = 0.6 in its pins (searched for:
+    the ramp is rare), where Newton at full mu fails and the ramp from mu = 0 solves
+    (more than NEWTON iterations: counted), and where it locks (status 2): the compiled
+    kernel, which runs Newton's passes over a chunk with no branch, gives the numpy
+    engine's status at every position, its iterations at nearly all, its answers to a
+    bound (Gaussian elimination there, LAPACK here), and the same warning."""
+    m = SLIDER_EXAMPLE.replace(TH2D=40.0)
+    th = np.arange(1.0, 360.0, 0.5)
+    pin = PinFriction(2.0, 0.3)
+    sc = scene_for(m)(friction={"slide": PinFriction(3.5, 0.0), "O2": pin, "A": pin, "B": pin})
+    names = ["TORQ", "FN", "TORQ_FRICTION", "PLOSS_S", "PLOSS_B", "FRICTION_STATUS",
+             "FRICTION_ITERATIONS"]
+    got = {}
+    for backend in ("numpy", "numba"):
+        with pytest.warns(FrictionWarning, match="reach no solution"):
+            got[backend] = analyze(m, th, names, scene=sc, backend=backend)
+    a, b = got["numpy"], got["numba"]
+    np.testing.assert_array_equal(a["FRICTION_STATUS"], b["FRICTION_STATUS"])
+    locked = a["FRICTION_STATUS"] == 2.0
+    ramp = (a["FRICTION_ITERATIONS"] > NEWTON) & ~locked
+    assert locked.sum() >= 5 and ramp.sum() >= 5, (locked.sum(), ramp.sum())
+    assert np.count_nonzero(a["FRICTION_ITERATIONS"] != b["FRICTION_ITERATIONS"]) <= th.size // 50
+    for name in names[:5]:
+        assert np.array_equal(np.isnan(a[name]), np.isnan(b[name])), name
+        ok = ~np.isnan(a[name])
+        np.testing.assert_allclose(b[name][ok], a[name][ok], rtol=0,
+                                   atol=1e-9 * np.max(np.abs(a[name][ok])), err_msg=name)
 
 
 def test_a_friction_mapping_names_the_joints():

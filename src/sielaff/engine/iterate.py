@@ -28,7 +28,7 @@ import numpy as np
 
 from sielaff.engine.registry import Step, zero_when_of
 
-__all__ = ["iterated", "run"]
+__all__ = ["iterated", "iterated_step", "run"]
 
 
 def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
@@ -41,7 +41,7 @@ def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
     ``provides`` but the last (the count), ``done`` and ``keep``.  The step needs
     ``(limit, go, *start, *consts)``; ``zero_when`` as :func:`registry.step`'s.
     """
-    provides, start, consts = tuple(provides), tuple(start), tuple(consts)
+    start, consts = tuple(start), tuple(consts)
 
     def decorate(body: Callable[..., Any]) -> Callable[..., Any]:
         import inspect
@@ -50,18 +50,30 @@ def iterated(provides: Iterable[str], limit: str, go: str, start: Iterable[str],
         if params[len(start):] != consts or len(params) != len(start) + len(consts):
             raise TypeError(f"iterated step {body.__name__}: parameters {params} are not "
                             f"{len(start)} of the state's and then {consts}")
-        n_state, n_results = len(start), len(provides) - 1
-
-        def numpy_form(*args: Any) -> Any:
-            return run(body, n_state, n_results, args[0], args[1], args[2:])
-
-        numpy_form.__name__ = body.__name__
-        body.__sielaff_step__ = Step(  # type: ignore[attr-defined]
-            body.__name__, numpy_form, provides, (limit, go) + start + consts,
-            *zero_when_of(zero_when), iterates=(body, n_state))
+        body.__sielaff_step__ = iterated_step(  # type: ignore[attr-defined]
+            body.__name__, body, provides, limit, go, start, consts, zero_when)
         return body
 
     return decorate
+
+
+def iterated_step(name: str, body: Callable[..., Any], provides: Iterable[str], limit: str,
+                  go: str, start: Iterable[str], consts: Iterable[str],
+                  zero_when: Iterable[Any] = ()) -> Step:
+    """The Step of the pass ``body`` (as :func:`iterated`'s, for a pass whose parameters
+    are not named after its inputs: one written out by engine/unroll.py)."""
+    provides, start, consts = tuple(provides), tuple(start), tuple(consts)
+    if body.__code__.co_argcount != len(start) + len(consts):
+        raise TypeError(f"iterated step {name}: {body.__code__.co_argcount} parameters, "
+                        f"not {len(start)} of the state's and {len(consts)} constants")
+    n_state, n_results = len(start), len(provides) - 1
+
+    def numpy_form(*args: Any) -> Any:
+        return run(body, n_state, n_results, args[0], args[1], args[2:])
+
+    numpy_form.__name__ = name
+    return Step(name, numpy_form, provides, (limit, go) + start + consts,
+                *zero_when_of(zero_when), iterates=(body, n_state))
 
 
 def run(body: Callable[..., Any], n_state: int, n_results: int, limit: Any, go: Any,

@@ -21,10 +21,19 @@ changes (``FRICTION_STATUS`` 2; a FrictionWarning says how many).  A joint whose
 motion is exactly zero has static friction of unknown size, taken as zero
 (``FRICTION_STATUS`` 1).
 
+How it runs: three steps, each written out for the topology by engine/unroll.py (so the
+numpy engine and the compiled kernel run the same code): the system's entries and the
+friction loads' geometry at each position; Newton's method, an iterated step
+(engine/iterate.py) of one Newton iteration a pass, whose state carries the ramp's level
+and the iterations at it (level 0: mu itself; after NEWTON iterations there without
+converging, levels 1 to RAMP from the frictionless forces); the corrections, the losses
+and the status.
+
 Outputs: ``TORQ_FRICTION`` (TORQ with friction less TORQ without), ``PLOSS_<pin>`` for each
 pin and ``PLOSS_S<label>`` for each slide (the power friction loses there, >= 0:
-mu r |F| |relative rotation| and mu |FN| |VS|), ``FRICTION_ITERATIONS`` (Newton's, in all)
-and ``FRICTION_STATUS``.  With every mu = 0 no step here runs.
+mu r |F| |relative rotation| and mu |FN| |VS|), ``FRICTION_ITERATIONS`` (the position's
+Newton iterations, the ramp's included) and ``FRICTION_STATUS``.  With every mu = 0 no
+step here runs.
 """
 
 from __future__ import annotations
@@ -45,15 +54,16 @@ from sielaff.engine.friction import (
     loss_meaning,
 )
 from sielaff.engine.friction import per_joint as per_joint_of
+from sielaff.engine.iterate import iterated_step
 from sielaff.engine.registry import Effect, Step
-from sielaff.engine.unroll import structured
+from sielaff.engine.unroll import Sym, call, skeleton, unrolled
 from sielaff.linkage import Topology
 
 __all__ = ["RAMP", "effect"]
 
 #: The continuation's steps in mu where Newton alone does not converge.
 RAMP = 16
-#: Newton's iterations per solve.
+#: Newton's iterations per solve (at mu, then at each step of the ramp).
 NEWTON = 40
 
 
@@ -90,19 +100,12 @@ def effect(topology: Topology, rename: Any) -> Effect:
         given = [f for f in per_joint(scene.friction).values() if f is not None]
         ns: dict[str, Any] = dict(zip(seeds, coefficients(scene).values(), strict=True))
         ns["friction_tol"] = min((f.tol for f in given), default=1e-13)
+        ns["joint_friction_passes"] = float(NEWTON * (RAMP + 1))
         return ns
 
-    def _friction(pos: Any, vel: Any, friction_tol: Any, *args: Any) -> Any:
-        mu = args[:len(seeds)]
-        x0 = args[len(seeds):]
-        pos, vel = structured(topology, "pos", pos), structured(topology, "vel", vel)
-        return solve(topology, pos, vel, mu, x0, friction_tol, pins, slides)
-
     provides = tuple(s + "_f" for s in slot_names[:-1]) + ("TORQ_FRICTION",) + losses + (
-        "FRICTION_ITERATIONS", "FRICTION_STATUS")
-    step = Step("_joint_friction", _friction, provides,
-                ("pos", "vel", "friction_tol") + seeds + tuple(t + "_0" for t in totals),
-                seeds, (seeds,))
+        "FRICTION_STATUS", "FRICTION_ITERATIONS")
+    steps = _steps(topology, pins, slides, seeds, tuple(totals), provides)
 
     def describe(scene: Any, units: str) -> list[Fact]:
         facts = []
@@ -167,7 +170,7 @@ def effect(topology: Topology, rename: Any) -> Effect:
                "FRICTION_ITERATIONS": ("number", MEANINGS["FRICTION_ITERATIONS"]),
                "FRICTION_STATUS": ("number", MEANINGS["FRICTION_STATUS"])}
     return Effect(
-        "joint friction", (step,), seed, torque="TORQ_FRICTION",
+        "joint friction", steps, seed, torque="TORQ_FRICTION",
         corrects={**{t: s + "_f" for t, s in zip(totals[:-1], slot_names[:-1], strict=True)},
                   totals[-1]: "TORQ_FRICTION"},
         switch=seeds,
@@ -205,181 +208,207 @@ def _pin_of(where: str, table: Any, reader: Any) -> PinFriction:
         raise reader.error(f"{where}: {exc}") from None
 
 
-def solve(topology: Topology, pos: Any, vel: Any, mu: tuple[Any, ...], x0: tuple[Any, ...],
-          tol: float, pins: list[joints.Joint], slides: list[joints.Slide]) -> tuple[Any, ...]:
-    """The corrections to the slots (every pin force, FN, MN; TORQ), each joint's loss, the
-    iterations and the status, at every position (see the module doc)."""
-    shape = np.broadcast_shapes(*(np.shape(x) for x in x0), np.shape(pos.margin))
-    A, L = joints.matrix(topology, pos, shape)
-    size = A.shape[-1]
-    n = int(np.prod(shape))
-    A = A.reshape(n, size, size)
-    # the unknowns in the system's scale (couples and TORQ / L)
-    x_start = np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1)
-                        for v in x0], axis=-1)
-    n_pin = 2 * len(pins)
-    for i in list(range(n_pin + 1, n_pin + 2 * len(slides), 2)) + [size - 1]:
-        x_start[:, i] /= L
-    geo = _friction_geometry(topology, pos, vel, pins, slides, shape, L)
-    mus = [float(m) for m in mu]
-    finite = np.isfinite(x_start).all(axis=1) & np.isfinite(A).all(axis=(1, 2))
-    x = np.where(finite[:, None], x_start, 0.0)
-    status = np.where(geo["still"] & finite, 1.0, 0.0)
-    iterations = np.zeros(n)
-    todo = np.flatnonzero(finite)
-    solved, its = _newton(A[todo], x_start[todo], x[todo], geo, todo, mus, 1.0, tol, n_pin)
-    iterations[todo] += its
-    ok = np.isfinite(solved).all(axis=1)
-    x[todo[ok]] = solved[ok]
-    left = todo[~ok]
-    if left.size:  # continuation: mu raised from 0, each solve from the last
-        y = x_start[left].copy()
-        alive = np.ones(left.size, dtype=bool)
-        for k in range(1, RAMP + 1):
-            idx = np.flatnonzero(alive)
-            got, its = _newton(A[left[idx]], x_start[left[idx]], y[idx], geo, left[idx], mus,
-                               k / RAMP, tol, n_pin)
-            iterations[left[idx]] += its
-            good = np.isfinite(got).all(axis=1)
-            y[idx[good]] = got[good]
-            alive[idx[~good]] = False
-        x[left[alive]] = y[alive]
-        dead = left[~alive]
-        x[dead] = np.nan
-        status[dead] = 2.0
-        if dead.size:
-            warnings.warn(f"joint friction at {n} positions: {dead.size} reach no solution of "
-                          "the friction law from mu = 0 (self-locking: NaN, FRICTION_STATUS 2)",
-                          FrictionWarning, stacklevel=2)
-    x[~finite] = np.nan
-    corr = x - x_start
-    for i in list(range(n_pin + 1, n_pin + 2 * len(slides), 2)) + [size - 1]:
-        corr[:, i] *= L
-    losses = _losses(x, geo, mus, n_pin, len(pins), len(slides))
-    out = [corr[:, i] for i in range(size)] + losses + [iterations, status]
-    return tuple(np.reshape(v, shape) for v in out)
+class _Layout:
+    """Where each value of the solve sits: the unknowns (each pin's force, each slide's FN
+    and MN, TORQ; couples and TORQ in the system's scale), the system's entries that
+    depend on the position (the others are numbers, written into the code), and the
+    friction loads' geometry, each a name of the effect's steps (lower case: not outputs)."""
+
+    def __init__(self, topology: Topology, pins: list[joints.Joint],
+                 slides: list[joints.Slide], constant: dict[tuple[int, int], float]) -> None:
+        self.topology, self.pins, self.slides = topology, pins, slides
+        self.size = 3 * (topology.links - 1)
+        self.n_pin = 2 * len(pins)
+        #: the unknowns in scale (a couple's and TORQ's: divided by L)
+        self.scaled = tuple(range(self.n_pin + 1, self.n_pin + 2 * len(slides), 2)) + (
+            self.size - 1,)
+        self.constant = constant
+        self.entries = tuple((r, c) for r in range(self.size) for c in range(self.size)
+                             if (r, c) not in constant)
+        self.arm_links = [tuple(k for k in (s.slider, s.guide) if k != 1) for s in slides]
+        self.x0 = tuple(f"jf_x0_{i}" for i in range(self.size))
+        self.geometry = (
+            tuple(f"jf_a{r}_{c}" for r, c in self.entries) + ("jf_l",)
+            + tuple(f"jf_{w}{j}" for j in range(len(pins)) for w in ("ps", "pr"))
+            + tuple(f"jf_{w}{i}" for i, ks in enumerate(self.arm_links)
+                    for w in ("ux", "uy", "ss", "sr", *(f"arm{k}_" for k in ks))))
+
+    def unpack(self, g: tuple[Any, ...]) -> tuple[Any, ...]:
+        """The geometry's values (in :attr:`geometry`'s order) as (A's rows, L, each pin's
+        (sign, rate), each slide's (ux, uy, sign, rate, {link: arm}))."""
+        it = iter(g)
+        got = {e: next(it) for e in self.entries}
+        rows = [[self.constant.get((r, c), got.get((r, c))) for c in range(self.size)]
+                for r in range(self.size)]
+        L = next(it)
+        pins = [(next(it), next(it)) for _ in self.pins]
+        slides = []
+        for ks in self.arm_links:
+            ux, uy, sign, rate = next(it), next(it), next(it), next(it)
+            slides.append((ux, uy, sign, rate, {k: next(it) for k in ks}))
+        return rows, L, pins, slides
 
 
-def _friction_geometry(topology: Topology, pos: Any, vel: Any, pins: list[joints.Joint],
-                       slides: list[joints.Slide], shape: tuple[int, ...], L: float
-                       ) -> dict[str, Any]:
-    """What the friction loads need per position, flat: each pin's links and the sign of
-    its relative rotation, each slide's direction, arm and the sign of its rate."""
-    def flat(v: Any) -> np.ndarray:
-        return np.broadcast_to(np.asarray(v, dtype=float), shape).reshape(-1)
+def _steps(topology: Topology, pins: list[joints.Joint], slides: list[joints.Slide],
+           seeds: tuple[str, ...], totals: tuple[str, ...], provides: tuple[str, ...],
+           ) -> tuple[Step, ...]:
+    """The solve's three steps, each written out by engine/unroll.py for the topology (so
+    that the compiled kernel runs them as the numpy engine does): the system and the
+    friction loads' geometry at each position; Newton's method, an iterated step
+    (engine/iterate.py) of one Newton iteration a pass; the corrections, the losses and
+    the status."""
+    pos_sk, vel_sk = skeleton(topology, "pos"), skeleton(topology, "vel")
+    found: dict[tuple[int, int], float] = {}
 
-    g: dict[str, Any] = {"pins": [], "slides": []}
-    still = np.zeros(int(np.prod(shape)), dtype=bool)
-    for j in pins:
-        rel = flat(vel.w[j.by] - vel.w[j.on])
-        g["pins"].append((j.by, j.on, np.sign(rel), np.abs(rel)))
-        still |= rel == 0.0
-    for s in slides:
-        rate = flat(vel.s[s.label])
-        u = pos.guide[s.label][3]
-        ux, uy = flat(u[0]), flat(u[1])
-        px, py = (flat(c) for c in pos.pt[s.point])
-        arms = {}
-        for k in (s.slider, s.guide):
-            if k != 1:
+    def probe(pos: Any) -> Any:  # which of the system's entries are numbers
+        rows, L = joints.entries(topology, pos)
+        found.update({(r, c): float(v) for r, row in enumerate(rows)
+                      for c, v in enumerate(row) if not isinstance(v, Sym)})
+        return L
+    unrolled("_probe", probe, [pos_sk], 1)
+    lay = _Layout(topology, pins, slides, found)
+    n_mu = len(seeds)
+
+    def system(pos: Any, vel: Any, *x0: Any) -> tuple[Any, ...]:
+        rows, L = joints.entries(topology, pos)
+        xs = [v / L if i in lay.scaled else v for i, v in enumerate(x0)]
+        finite: Any = True
+        for v in xs + [rows[r][c] for r, c in lay.entries]:
+            finite = finite & np.isfinite(v)
+        geometry: list[Any] = [rows[r][c] for r, c in lay.entries] + [L]
+        still: Any = False
+        for j in pins:
+            rel = vel.w[j.by] - vel.w[j.on]
+            geometry += [np.sign(rel), np.abs(rel)]
+            still = still | (rel == 0.0)
+        for s, ks in zip(slides, lay.arm_links, strict=True):
+            rate = vel.s[s.label]
+            ux, uy = pos.guide[s.label][3]
+            px, py = pos.pt[s.point]
+            geometry += [ux, uy, np.sign(rate), np.abs(rate)]
+            for k in ks:  # the moment / L of a unit force along u at the pin, about k's base
                 _, _, bx, by = pos.link[k]
-                # the moment / L of a unit force along u at the pin, about link k's base
-                arms[k] = ((px - flat(bx)) * uy - (py - flat(by)) * ux) / L
-        g["slides"].append((s.slider, s.guide, ux, uy, arms, np.sign(rate), np.abs(rate)))
-        still |= rate == 0.0
-    g["still"] = still
-    g["L"] = L
-    return g
+                geometry.append(((px - bx) * uy - (py - by) * ux) / L)
+            still = still | (rate == 0.0)
+        go = np.where(finite, 1.0, 0.0)
+        return (*xs, *geometry, go, np.where(still, 1.0, 0.0), 0.0)
+
+    made = tuple(lay.x0) + lay.geometry + ("jf_go", "jf_still", "jf_0")
+    fn, _ = unrolled("_joint_friction_system", system, [pos_sk, vel_sk] + [None] * len(totals),
+                     len(made))
+    first = Step("_joint_friction_system", fn, made, ("pos", "vel") + tuple(
+        t + "_0" for t in totals), seeds, (seeds,))
+
+    def newton(*v: Any) -> tuple[Any, ...]:
+        """One Newton iteration on A (x - x0) + Phi(x) = 0 (Phi the friction loads at mu
+        times the level's fraction), and the level's and the iterations' bookkeeping."""
+        n = lay.size
+        x, level, its = v[:n], v[n], v[n + 1]
+        x0 = v[n + 2:2 * n + 2]
+        rows, L, pin_geo, slide_geo = lay.unpack(v[2 * n + 2:-n_mu - 1])
+        mus, tol = v[-n_mu - 1:-1], v[-1]
+        scale = np.where(level == 0.0, 1.0, level / RAMP)
+        phi: list[Any] = [0.0] * n
+        jac: dict[tuple[int, int], Any] = {}
+
+        def add(r: int, c: int, dphi: Any, d: Any) -> None:
+            if dphi is not None:
+                phi[r] = phi[r] + dphi
+            jac[(r, c)] = jac.get((r, c), 0.0) + d
+
+        for j, (pin, (sign, _)) in enumerate(zip(pins, pin_geo, strict=True)):
+            mur = mus[j] * scale
+            fx, fy = x[2 * j], x[2 * j + 1]
+            mag = np.hypot(fx, fy)
+            some = mag > 0.0
+            c = mur * mag * sign / L  # the couple on `on` (on `by` the opposite), / L
+            dx = np.where(some, mur * sign * fx / np.where(some, mag, 1.0) / L, 0.0)
+            dy = np.where(some, mur * sign * fy / np.where(some, mag, 1.0) / L, 0.0)
+            for k, sg in ((pin.on, 1.0), (pin.by, -1.0)):
+                if k != 1:
+                    row = 3 * (k - 2) + 2
+                    add(row, 2 * j, sg * c, sg * dx)
+                    add(row, 2 * j + 1, None, sg * dy)
+        for i, (s, (ux, uy, sign, _, arms)) in enumerate(zip(slides, slide_geo, strict=True)):
+            mu = mus[len(pins) + i] * scale
+            col = lay.n_pin + 2 * i
+            fn = x[col]
+            f = -mu * np.abs(fn) * sign  # along u, on the slider; the guide the opposite
+            df = -mu * np.sign(fn) * sign
+            for k, sg in ((s.slider, 1.0), (s.guide, -1.0)):
+                if k != 1:
+                    row = 3 * (k - 2)
+                    for r, comp in ((row, ux), (row + 1, uy), (row + 2, arms[k])):
+                        add(r, col, sg * f * comp, sg * df * comp)
+        residual = []
+        for r in range(n):
+            total: Any = 0.0
+            for c in range(n):
+                if rows[r][c] is not None and not (
+                        isinstance(rows[r][c], float) and rows[r][c] == 0.0):
+                    total = total + rows[r][c] * (x[c] - x0[c])
+            residual.append(total + phi[r])
+        system_rows = [[rows[r][c] + jac[(r, c)] if (r, c) in jac else rows[r][c]
+                        for c in range(n)] for r in range(n)]
+        step = call(joints.linear, n, system_rows, residual)
+        new = [x[i] - step[i] for i in range(n)]
+        big, largest = np.abs(new[0]), np.abs(step[0])
+        finite = np.isfinite(step[0])
+        for i in range(1, n):
+            big, largest = np.maximum(big, np.abs(new[i])), np.maximum(largest, np.abs(step[i]))
+            finite = finite & np.isfinite(step[i])
+        conv = largest <= tol * (big + 1e-300)  # False for NaN
+        last = (level == 0.0) | (level == float(RAMP))
+        give_up = (finite == False) | ((conv == False) & (its + 1.0 >= NEWTON))  # noqa: E712
+        restart = give_up & (level == 0.0)  # Newton alone failed: the ramp from mu = 0
+        failed = give_up & (level > 0.0)
+        done = (conv & last) | failed
+        up = (conv & (last == False)) | restart  # noqa: E712
+        state = [np.where(restart, x0[i], new[i]) for i in range(n)]
+        return (*state, np.where(up, level + 1.0, level), np.where(up, 0.0, its + 1.0),
+                *new, np.where(failed, 1.0, 0.0), done, done == False)  # noqa: E712
+
+    results = tuple(f"jf_x{i}" for i in range(lay.size)) + ("jf_failed",)
+    consts = lay.x0 + lay.geometry + seeds + ("friction_tol",)
+    body, _ = unrolled("_joint_friction_newton", newton, [None] * (
+        lay.size + 2 + len(consts)), 2 * lay.size + 5)
+    second = iterated_step("_joint_friction_newton", body, results + ("FRICTION_ITERATIONS",),
+                           "joint_friction_passes", "jf_go", lay.x0 + ("jf_0", "jf_0"),
+                           consts, (seeds,))
+
+    def finish(*v: Any) -> tuple[Any, ...]:
+        n = lay.size
+        failed, go, still = v[n], v[n + 1], v[n + 2]
+        x0 = v[n + 3:2 * n + 3]
+        _, L, pin_geo, slide_geo = lay.unpack(v[2 * n + 3:-n_mu])
+        mus = v[-n_mu:]
+        bad = (go == 0.0) | (failed != 0.0)
+        x = [np.where(bad, np.nan, v[i]) for i in range(n)]
+        corr = [(x[i] - x0[i]) * L if i in lay.scaled else x[i] - x0[i] for i in range(n)]
+        losses = [np.where(sign == 0.0, 0.0, mus[j] * np.hypot(x[2 * j], x[2 * j + 1]) * rate)
+                  for j, (sign, rate) in enumerate(pin_geo)]
+        losses += [np.where(sign == 0.0, 0.0,
+                            mus[len(pins) + i] * np.abs(x[lay.n_pin + 2 * i]) * rate)
+                   for i, (_, _, sign, rate, _) in enumerate(slide_geo)]
+        status = np.where(go == 0.0, 0.0, np.where(failed != 0.0, 2.0,
+                                                   np.where(still != 0.0, 1.0, 0.0)))
+        return (*corr, *losses, status)
+
+    needs = results + ("jf_go", "jf_still") + lay.x0 + lay.geometry + seeds
+    fn, _ = unrolled("_joint_friction_losses", finish, [None] * len(needs),
+                     len(provides) - 1)
+    third = Step("_joint_friction_losses", fn, tuple(p for p in provides if p !=
+                                                    "FRICTION_ITERATIONS"),
+                 needs, seeds, (seeds,), warns=(("FRICTION_STATUS",), _warn_locked))
+    return first, second, third
 
 
-def _loads(x: np.ndarray, geo: dict[str, Any], idx: np.ndarray, mus: list[float],
-           scale: float, n_pin: int) -> tuple[np.ndarray, np.ndarray]:
-    """Phi(x), the friction loads as the system's rows, and its Jacobian, at positions
-    ``idx`` (x in the system's scale)."""
-    m, size = x.shape
-    phi = np.zeros((m, size))
-    jac = np.zeros((m, size, size))
-    L = geo["L"]
-    for j, (by, on, sign, _) in enumerate(geo["pins"]):
-        mur = mus[j] * scale
-        if mur == 0.0:
-            continue
-        fx, fy = x[:, 2 * j], x[:, 2 * j + 1]
-        mag = np.hypot(fx, fy)
-        s = sign[idx]
-        c = mur * mag * s / L  # the couple on `on` (on `by` the opposite), / L
-        dx = np.where(mag > 0.0, mur * s * fx / np.where(mag > 0.0, mag, 1.0) / L, 0.0)
-        dy = np.where(mag > 0.0, mur * s * fy / np.where(mag > 0.0, mag, 1.0) / L, 0.0)
-        for k, sg in ((on, 1.0), (by, -1.0)):
-            if k == 1:
-                continue
-            row = 3 * (k - 2) + 2
-            phi[:, row] += sg * c
-            jac[:, row, 2 * j] += sg * dx
-            jac[:, row, 2 * j + 1] += sg * dy
-    for i, (slider, guide, ux, uy, arms, sign, _) in enumerate(geo["slides"]):
-        mu = mus[len(geo["pins"]) + i] * scale
-        if mu == 0.0:
-            continue
-        col = n_pin + 2 * i
-        fn = x[:, col]
-        f = -mu * np.abs(fn) * sign[idx]  # along u, on the slider; the guide the opposite
-        df = -mu * np.sign(fn) * sign[idx]
-        for k, sg in ((slider, 1.0), (guide, -1.0)):
-            if k == 1:
-                continue
-            row = 3 * (k - 2)
-            for r, comp in ((row, ux[idx]), (row + 1, uy[idx]), (row + 2, arms[k][idx])):
-                phi[:, r] += sg * f * comp
-                jac[:, r, col] += sg * df * comp
-    return phi, jac
-
-
-def _newton(A: np.ndarray, x0: np.ndarray, start: np.ndarray, geo: dict[str, Any],
-            idx: np.ndarray, mus: list[float], scale: float, tol: float, n_pin: int
-            ) -> tuple[np.ndarray, int]:
-    """Solve A (x - x0) + Phi(x) = 0 at each position from ``start``; NaN rows where it
-    does not converge in NEWTON iterations.  Returns x and the iterations run."""
-    x = start.copy()
-    done = np.zeros(len(idx), dtype=bool)
-    out = np.full_like(x, np.nan)
-    its = 0
-    for _ in range(NEWTON):
-        live = np.flatnonzero(~done)
-        if not live.size:
-            break
-        its += 1
-        phi, jac = _loads(x[live], geo, idx[live], mus, scale, n_pin)
-        residual = np.einsum("nij,nj->ni", A[live], x[live] - x0[live]) + phi
-        with np.errstate(all="ignore"):
-            try:
-                step = np.linalg.solve(A[live] + jac, residual[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                step = np.stack([_one(a, r) for a, r in zip(A[live] + jac, residual,
-                                                            strict=True)])
-        x[live] -= step
-        size = np.max(np.abs(x[live]), axis=1) + 1e-300
-        conv = np.max(np.abs(step), axis=1) <= tol * size
-        blown = ~np.isfinite(step).all(axis=1)
-        out[live[conv]] = x[live[conv]]
-        done[live[conv | blown]] = True
-    return out, its
-
-
-def _one(a: np.ndarray, r: np.ndarray) -> np.ndarray:
-    try:
-        return np.linalg.solve(a, r)
-    except np.linalg.LinAlgError:
-        return np.full_like(r, np.nan)
-
-
-def _losses(x: np.ndarray, geo: dict[str, Any], mus: list[float], n_pin: int, pins: int,
-            slides: int) -> list[np.ndarray]:
-    out = []
-    for j, (_, _, sign, rate) in enumerate(geo["pins"]):
-        mag = np.hypot(x[:, 2 * j], x[:, 2 * j + 1])
-        out.append(np.where(sign == 0.0, 0.0, mus[j] * mag * rate))
-    for i, (*_, sign, rate) in enumerate(geo["slides"]):
-        fn = np.abs(x[:, n_pin + 2 * i])
-        out.append(np.where(sign == 0.0, 0.0, mus[pins + i] * fn * rate))
-    return out
+def _warn_locked(status: Any) -> None:
+    """The FrictionWarning where some position reaches no solution from mu = 0
+    (``FRICTION_STATUS`` 2): the model calls it after the step, on either backend."""
+    status = np.asarray(status)
+    dead = int(np.count_nonzero(status == 2.0))
+    if dead:
+        warnings.warn(f"joint friction at {status.size} positions: {dead} reach no solution "
+                      "of the friction law from mu = 0 (self-locking: NaN, FRICTION_STATUS 2)",
+                      FrictionWarning, stacklevel=2)

@@ -200,12 +200,28 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     passes: dict[int, tuple[int, Step]] = {}  # an iterated step's phase: its _s, the step
     phase = 0
 
+    # a value handed over that is a tuple (a linkage's positions, written out by
+    # engine/unroll.py, which says each result's nesting) goes in one row per leaf
+    shapes = {p: sh for st, skipped, _ in order if not skipped
+              for p, sh in zip(st.provides, getattr(_code(st), "__sielaff_shapes__", ()),
+                               strict=False) if sh is not None}
+
     def take(name: str | None) -> None:  # ``name`` in the current phase
         if name in level and level[name] < phase and name not in taken[phase]:
             if name not in crossing:
                 crossing.append(name)
-                phases[level[name]].append(f"_x{crossing.index(name)}[_j] = {v(name)}")
+                for path in _leaves(shapes.get(name)):
+                    key = name + repr(path) if path else name
+                    if path:  # a leaf's own row
+                        crossing.append(key)
+                    phases[level[name]].append(
+                        f"_x{crossing.index(key)}[_j] = {v(name)}"
+                        + "".join(f"[{i}]" for i in path))
             taken[phase].append(name)
+
+    def handed(name: str) -> str:  # the value ``name`` read back from its rows
+        return f"{v(name)} = " + _rebuilt(shapes.get(name), (), lambda path: (
+            f"_x{crossing.index(name + repr(path) if path else name)}[_j]"))
 
     def store(names: Any) -> None:
         # each output stored as soon as it is known: a value kept to the end of the loop's
@@ -258,10 +274,10 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         f"_out{j}" for j in range(len(wanted))]
     starts: list[list[str]] = []
     for k, lines in enumerate(phases):  # each phase starts from the inputs and what it is handed
-        handed = [f"{v(n)} = _x{crossing.index(n)}[_j]" for n in taken[k]]
+        got = [handed(n) for n in taken[k]]
         if model.counts in taken[k]:
-            handed.append(f"_ok = {v(model.counts)} == {v(model.counts)}")
-        starts.append(reads + zeros + handed)
+            got.append(f"_ok = {v(model.counts)} == {v(model.counts)}")
+        starts.append(reads + zeros + got)
         lines[:0] = starts[k]
     row = CHUNK + STAGGER
     if not staged:
@@ -322,6 +338,24 @@ def _passes(j: int, st: Step, start: list[str], v: Any, crossing: list[str]) -> 
             "    _left += _go"]),
         "    if _left == 0:",
         "        break"])]
+
+
+def _leaves(shape: Any, path: tuple[int, ...] = ()) -> list[tuple[int, ...]]:
+    """The paths to the leaves of a result's nesting (``()`` for a number)."""
+    if shape is None:
+        return [path]
+    return [p for i, sh in enumerate(shape) for p in _leaves(sh, path + (i,))]
+
+
+def _rebuilt(shape: Any, path: tuple[int, ...], row: Any) -> str:
+    """The expression that builds a value of this nesting from its leaves' rows."""
+    if shape is None:
+        return str(row(path))
+    items = [_rebuilt(sh, path + (i,), row) + ", " for i, sh in enumerate(shape)]
+    # in tuples of at most 16, added: CPython builds a longer one through a list, which
+    # numba's bytecode reader takes only where its name is assigned once
+    return " + ".join("(" + "".join(items[k:k + 16]) + ")"
+                      for k in range(0, len(items), 16)) or "()"
 
 
 def counts_assembly(model: Model, order: Plan) -> bool:

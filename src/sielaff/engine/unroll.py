@@ -35,8 +35,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Sym", "Untraceable", "call", "flatten", "keep", "nested", "rebuild", "structured",
-           "unrolled"]
+__all__ = ["Sym", "Untraceable", "call", "flatten", "keep", "nested", "rebuild", "skeleton",
+           "structured", "unrolled"]
 
 _LOCK = threading.RLock()
 
@@ -228,6 +228,11 @@ def keep(owner: Any, name: str, skeleton: Any) -> None:
         _KEPT[(owner, name)] = skeleton
 
 
+def skeleton(owner: Any, name: str) -> Any:
+    """The skeleton :func:`keep` remembered for ``owner``'s value ``name`` (None if none)."""
+    return _KEPT.get((owner, name))
+
+
 def structured(owner: Any, name: str, value: Any) -> Any:
     """``owner``'s value ``name`` as its step made it (a flat tuple rebuilt by its
     skeleton; anything else as it is)."""
@@ -344,15 +349,17 @@ def unrolled(name: str, fn: Callable[..., Any], inputs: Sequence[Any], n_out: in
             results = (result,) if n_out == 1 else tuple(result)
             if len(results) != n_out:
                 raise Untraceable(f"{len(results)} results, not {n_out}")
-            out, skeletons = [], []
+            out, skeletons, shapes = [], [], []
             for r, is_flat in zip(results, flat, strict=True):
                 if is_flat:
                     syms, sk = flatten(r)
                     out.append(render(tuple(syms)))
                     skeletons.append(sk)
+                    shapes.append((None,) * len(syms))
                 else:
                     out.append(render(r))
                     skeletons.append(None)
+                    shapes.append(_shape(r))
         except (TypeError, ValueError, KeyError, IndexError, AttributeError) as e:
             raise Untraceable(f"{type(e).__name__}: {e}") from None
         finally:
@@ -366,4 +373,13 @@ def unrolled(name: str, fn: Callable[..., Any], inputs: Sequence[Any], n_out: in
     made.__module__ = __name__
     made.__sielaff_source__ = src + "".join(  # what the kernel cache hashes
         getattr(v, "__sielaff_source__", "") for v in tape.glob.values())
+    made.__sielaff_shapes__ = tuple(shapes)  # the kernel hands tuples between its loops
     return made, skeletons
+
+
+def _shape(x: Any) -> Any:
+    """A result's nesting of plain tuples, each leaf None (a number, or something that is
+    not a plain tuple: a named tuple)."""
+    if isinstance(x, tuple | list) and not hasattr(x, "_fields"):
+        return tuple(_shape(v) for v in x)
+    return None
