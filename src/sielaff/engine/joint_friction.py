@@ -22,12 +22,13 @@ motion is exactly zero has static friction of unknown size, taken as zero
 (``FRICTION_STATUS`` 1).
 
 How it runs: three steps, each written out for the topology by engine/unroll.py (so the
-numpy engine and the compiled kernel run the same code): the system's entries and the
-friction loads' geometry at each position; Newton's method, an iterated step
-(engine/iterate.py) of one Newton iteration a pass, whose state carries the ramp's level
-and the iterations at it (level 0: mu itself; after NEWTON iterations there without
-converging, levels 1 to RAMP from the frictionless forces); the corrections, the losses
-and the status.
+numpy engine and the compiled kernel run the same code, but for the linear solve of each
+Newton step, joints.linear: LAPACK in numpy, engine/kernel_math.py's in the kernel): the
+system's entries and the friction loads' geometry at each position; Newton's method, an
+iterated step (engine/iterate.py) of one Newton iteration a pass, whose state carries the
+ramp's level and the iterations at it (level 0: mu itself; after NEWTON iterations there
+without converging, or at once on a step that is not finite, levels 1 to RAMP from the
+frictionless forces); the corrections, the losses and the status.
 
 Outputs: ``TORQ_FRICTION`` (TORQ with friction less TORQ without), ``PLOSS_<pin>`` for each
 pin and ``PLOSS_S<label>`` for each slide (the power friction loses there, >= 0:
@@ -357,7 +358,7 @@ def _steps(topology: Topology, pins: list[joints.Joint], slides: list[joints.Sli
         for i in range(1, n):
             big, largest = np.maximum(big, np.abs(new[i])), np.maximum(largest, np.abs(step[i]))
             finite = finite & np.isfinite(step[i])
-        conv = largest <= tol * (big + 1e-300)  # False for NaN
+        conv = finite & (largest <= tol * (big + 1e-300))  # an infinite step is no answer
         last = (level == 0.0) | (level == float(RAMP))
         give_up = (finite == False) | ((conv == False) & (its + 1.0 >= NEWTON))  # noqa: E712
         restart = give_up & (level == 0.0)  # Newton alone failed: the ramp from mu = 0

@@ -201,19 +201,21 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     phase = 0
 
     # a value handed over that is a tuple (a linkage's positions, written out by
-    # engine/unroll.py, which says each result's nesting) goes in one row per leaf
-    shapes = {p: sh for st, skipped, _ in order if not skipped
+    # engine/unroll.py, which says each result's nesting) goes in one row per leaf; an
+    # iterated step's results are numbers its passes write into rows (below)
+    shapes = {p: sh for st, skipped, _ in order if not skipped and not st.iterates
               for p, sh in zip(st.provides, getattr(_code(st), "__sielaff_shapes__", ()),
                                strict=False) if sh is not None}
+    split: set[str] = set()  # the tuples handed over, by their leaves' rows
 
     def take(name: str | None) -> None:  # ``name`` in the current phase
         if name in level and level[name] < phase and name not in taken[phase]:
-            if name not in crossing:
-                crossing.append(name)
+            if name not in crossing and name not in split:
+                if name in shapes:
+                    split.add(name)
                 for path in _leaves(shapes.get(name)):
                     key = name + repr(path) if path else name
-                    if path:  # a leaf's own row
-                        crossing.append(key)
+                    crossing.append(key)
                     phases[level[name]].append(
                         f"_x{crossing.index(key)}[_j] = {v(name)}"
                         + "".join(f"[{i}]" for i in path))
@@ -352,8 +354,9 @@ def _rebuilt(shape: Any, path: tuple[int, ...], row: Any) -> str:
     if shape is None:
         return str(row(path))
     items = [_rebuilt(sh, path + (i,), row) + ", " for i, sh in enumerate(shape)]
-    # in tuples of at most 16, added: CPython builds a longer one through a list, which
-    # numba's bytecode reader takes only where its name is assigned once
+    # in tuples of at most 16, added: CPython 3.11 builds one of more than 30 items
+    # through a list, which numba's bytecode reader took only where its name is
+    # assigned once (a six-bar's positions are read back in every loop)
     return " + ".join("(" + "".join(items[k:k + 16]) + ")"
                       for k in range(0, len(items), 16)) or "()"
 
