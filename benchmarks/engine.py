@@ -58,7 +58,7 @@ from sielaff.emulator.cards import parse_deck  # noqa: E402
 from sielaff.emulator.program import SHEET_FIELDS  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from timing import machine, rounds, table, write_section  # noqa: E402
+from timing import machine, publish, rounds, table  # noqa: E402
 
 DOC = ROOT / "docs" / "performance.md"
 HEADING = "## Engine"
@@ -271,11 +271,7 @@ def main(argv=None) -> int:
         f"{chk:.10e}, engine {eng_chk:.10e} (relative difference {rel:.1e}).", "",
         profile_paragraph(lambda: engine.analyze(m, ath2, out=outs), n), "",
     ]
-    text = "\n".join(lines)
-    print(text)
-    if not args.no_write:
-        write_section(DOC, HEADING, text)
-        print(f"wrote the '{HEADING}' section of {DOC.relative_to(ROOT)}", file=sys.stderr)
+    publish(DOC, HEADING, "\n".join(lines), not args.no_write)
     return 0
 
 
@@ -457,12 +453,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         "engine/accuracy.py's bound of the exact answer, tested against 40 digits in "
         f"tests/test_error_bound.py); NaN in the same places: {same_nan}.", "",
     ]
-    text = "\n".join(lines)
-    print(text)
-    if not args.no_write:
-        write_section(DOC, COMPILED_HEADING, text)
-        print(f"wrote the '{COMPILED_HEADING}' section of {DOC.relative_to(ROOT)}",
-              file=sys.stderr)
+    publish(DOC, COMPILED_HEADING, "\n".join(lines), not args.no_write)
     return 0
 
 

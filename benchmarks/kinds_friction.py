@@ -43,7 +43,7 @@ from sielaff.engine.compiled import NOT_GIVEN, available  # noqa: E402
 from sielaff.quantities import unit  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from timing import machine, rounds, spread, write_section  # noqa: E402
+from timing import machine, publish, rounds, table  # noqa: E402
 
 DOC = ROOT / "docs" / "performance.md"
 HEADING = "## Friction on every linkage kind"
@@ -141,22 +141,13 @@ def main(argv=None) -> int:
         f"{args.rounds} rounds, is the numpy engine on the same request into reused arrays; "
         "median (range); the ratio is the numpy engine's CPU time over the "
         "configuration's.", "",
-        "| configuration | CPU s | wall s | numpy engine beside it, CPU s | "
-        "ratio numpy CPU / CPU | ratio of wall times |",
-        "|---|---:|---:|---:|---:|---:|",
-        *(f"| {s.name} | {spread(s.cpu)} | {spread(s.wall)} | {spread(s.ref_cpu)} | "
-          f"{spread(s.ratio('cpu'), '{:.2f}')}x | {spread(s.ratio('wall'), '{:.2f}')}x |"
-          for s in rows), "",
+        *table(rows, "numpy engine"), "",
         *notes, "",
     ]
     med = [statistics.median(s.ratio("cpu")) for s in rows]
     lines.insert(-1, f"* The compiled kernel against the numpy engine, `out=`: "
                  f"{min(med[0::2]):.2f}x to {max(med[0::2]):.2f}x over the four kinds.")
-    text = "\n".join(lines)
-    print(text)
-    if not args.no_write:
-        write_section(DOC, HEADING, text)
-        print(f"wrote the '{HEADING}' section of {DOC.relative_to(ROOT)}", file=sys.stderr)
+    publish(DOC, HEADING, "\n".join(lines), not args.no_write)
     return 0
 
 

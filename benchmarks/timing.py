@@ -100,15 +100,27 @@ def simd() -> str:
     return f"numpy {numpy.__version__} sees {level}"
 
 
-def table(series: list[Series], unit_label: str = "") -> list[str]:
-    lines = ["| configuration | CPU s | wall s | gfortran beside it, CPU s | "
-             "ratio gfortran CPU / CPU | ratio of wall times |",
+def table(series: list[Series], reference: str = "gfortran") -> list[str]:
+    """The markdown table of ``series``, each beside the run of ``reference``."""
+    lines = [f"| configuration | CPU s | wall s | {reference} beside it, CPU s | "
+             f"ratio {reference} CPU / CPU | ratio of wall times |",
              "|---|---:|---:|---:|---:|---:|"]
     for s in series:
         lines.append(f"| {s.name} | {spread(s.cpu)} | {spread(s.wall)} | "
                      f"{spread(s.ref_cpu)} | {spread(s.ratio('cpu'), '{:.2f}')}x | "
                      f"{spread(s.ratio('wall'), '{:.2f}')}x |")
     return lines
+
+
+def publish(doc, heading: str, text: str, write: bool) -> None:
+    """Print ``text``; with ``write``, make it the section ``heading`` of ``doc`` and say
+    so on stderr."""
+    import sys
+
+    print(text)
+    if write:
+        write_section(doc, heading, text)
+        print(f"wrote the '{heading}' section of {doc.name}", file=sys.stderr)
 
 
 def write_section(doc, heading: str, text: str) -> None:
