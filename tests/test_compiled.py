@@ -33,7 +33,7 @@ pytest.importorskip("numba")
 from hypothesis import assume, event, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from sielaff import Damper, PinFriction, Scene, Spring  # noqa: E402
+from sielaff import Damper, Scene, Spring  # noqa: E402
 from sielaff.engine import (  # noqa: E402
     KINDS,
     RESULTS,
@@ -483,17 +483,38 @@ def test_refusals_in_one_line(kwargs, match):
 
 
 @pytest.mark.parametrize("scene, output, match", [
-    (Scene(friction=PinFriction(0.1, 0.2)), "FRICTION_SOLUTIONS",
-     r"pin friction \(its step _friction_solutions\)"),
     (Scene(), "ASSEMBLED", "does not give ASSEMBLED"),
     (Scene(tex=lambda ath4: ath4), "TORQ", "not a function"),
     (Scene(loads=[Load(3, r=lambda a: a)]), "TORQ", "not a function"),
 ])
 def test_uncovered_effects_refused_in_one_line(scene, output, match):
-    """What the backend does not compile (friction's count of solutions, functions of the
-    angle, the mask) is a ValueError of one line through ``analyze``, before any kernel."""
+    """What the backend does not compile (functions of the angle, the mask) is a
+    ValueError of one line through ``analyze``, before any kernel."""
     with pytest.raises(ValueError, match=match) as e:
         analyze(EXAMPLE, [10.0, 20.0], [output], scene=scene, backend="numba")
+    assert "\n" not in str(e.value)
+
+
+def test_a_step_without_a_one_position_form_is_refused_naming_its_effect():
+    """An effect registered later whose step numba cannot type for one position (here a
+    dict of mixed keys) is refused in one line naming the effect and its step; the
+    numpy engine runs it."""
+    from sielaff.engine.fourbar import FOURBAR
+    from sielaff.engine.registry import Effect, step, step_of
+
+    @step(provides=("TORQ_ODD",), needs=("ODD_C", "TH2D"), zero_when=("ODD_C",))
+    def _odd(ODD_C, TH2D):
+        table = {1: ODD_C, "k": TH2D}
+        return table[1] * TH2D
+
+    model = FOURBAR.mapping(lambda s: s.fn)
+    model.add_effect(Effect("an odd drag", (step_of(_odd),), lambda scene, m: {"ODD_C": 2.0},
+                            outputs={"TORQ_ODD": ("torque", "the odd drag's torque")}))
+    ref = analyze(EXAMPLE, [10.0, 20.0], ["TORQ_ODD"], model=model)["TORQ_ODD"]
+    np.testing.assert_array_equal(ref, 2.0 * EXAMPLE.TH2D)
+    with pytest.raises(ValueError, match=r"backend='numba' has no compiled form of an odd "
+                                         r"drag \(its step _odd\): use backend='numpy'") as e:
+        analyze(EXAMPLE, [10.0, 20.0], ["TORQ_ODD"], model=model, backend="numba")
     assert "\n" not in str(e.value)
 
 

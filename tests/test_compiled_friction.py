@@ -22,8 +22,9 @@ code).  Checked here, on the compiled backend:
   use: the Newton-Euler solve with friction iterated (tests/newton_euler.py) with every
   effect on, and, where the law has several solutions, the law written again.
 
-Two kernels serve the file (friction and TEX; test_friction.py's scene of every effect),
-each compiled once (some 70 s) and then kept in the kernel cache.
+Three kernels serve the file (friction and TEX; test_friction.py's scene of every effect;
+the count of solutions, FRICTION_SOLUTIONS), each compiled once (some 70 s) and then kept
+in the kernel cache.
 """
 
 from __future__ import annotations
@@ -198,7 +199,8 @@ def test_solutions_not_reached_from_mu_zero(case):
 def test_near_toggles_every_solution_and_self_locking_as_numpy():
     """The bench's double rocker near its toggles (test_friction_solutions.py's, with a
     TEX): positions solved by Newton with several solutions, self-locking ones; the
-    compiled backend as the numpy engine, its chosen solutions solve the law, and with
+    compiled backend as the numpy engine (FRICTION_SOLUTIONS, the count of solutions,
+    too: none, one and several counted), its chosen solutions solve the law, and with
     ``out=`` the same arrays and warning."""
     th = reachable(ROCKER, 3600)
     sc = Scene(friction=PinFriction(0.3, 1.0), tex=0.5)
@@ -206,9 +208,16 @@ def test_near_toggles_every_solution_and_self_locking_as_numpy():
     got, warned = _run(ROCKER, th, sc, "numba")
     assert warned == ref_warned and len(warned) == 1
     _compare(ROCKER, got, ref)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        count = analyze(ROCKER, th, ["FRICTION_SOLUTIONS"], scene=sc)["FRICTION_SOLUTIONS"]
+    counts = {}
+    for backend in ("numpy", "numba"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            counts[backend] = analyze(ROCKER, th, ["FRICTION_SOLUTIONS"], scene=sc,
+                                      backend=backend)["FRICTION_SOLUTIONS"]
+    count = counts["numba"]
+    np.testing.assert_array_equal(count, counts["numpy"])
+    seen = Counter(np.minimum(count, 2.0).tolist())
+    assert seen[0.0] >= 2 and seen[1.0] >= 100 and seen[2.0] >= 5, seen
     newton = (got["FRICTION_ITERATIONS"] == 0) & (got["FRICTION_STATUS"] == 0)
     assert np.count_nonzero(got["FRICTION_STATUS"] == 2.0) >= 2
     several = np.flatnonzero(newton & (count >= 2) & _moderate(got))

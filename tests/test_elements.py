@@ -171,17 +171,12 @@ def test_bad_elements_are_one_line_errors_naming_the_field(bad, words):
     assert words in str(e.value) and "\n" not in str(e.value)
 
 
-def test_the_compiled_backend_refuses_only_the_count_of_friction_solutions():
+def test_the_compiled_backend_takes_pin_friction():
     """Springs, dampers and pin friction are compiled (tests/test_compiled.py and
-    tests/test_compiled_friction.py compare them); friction's count of solutions
-    (FRICTION_SOLUTIONS) is refused in one line naming it."""
+    tests/test_compiled_friction.py compare them, with friction's count of solutions)."""
     pytest.importorskip("numba")
     sc = Scene(friction=PinFriction(0.1, 0.2))
     got = analyze(EXAMPLE, [10.0], ["TORQ"], scene=sc, backend="numba")["TORQ"]
     ref = analyze(EXAMPLE, [10.0], ["TORQ"], scene=sc)["TORQ"]
     assert abs(got[0] - ref[0]) <= 1e-12 * abs(ref[0])
-    with pytest.raises(ValueError, match="backend='numba' has no compiled form of pin "
-                                         "friction \\(its step _friction_solutions\\)") as e:
-        analyze(EXAMPLE, [10.0], ["FRICTION_SOLUTIONS"], scene=sc, backend="numba")
-    assert "\n" not in str(e.value)
 

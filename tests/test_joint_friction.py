@@ -118,17 +118,19 @@ def test_the_drive_power_is_the_energy_rate_plus_the_losses(case, backend):
     r = analyze(m, th, _outputs(m, backend), scene=_scene(m), backend=backend)
     losses = sum(r[n] for n in model.outputs if n.startswith("PLOSS_"))
     assert np.all(losses >= 0.0)
-    ke = 0.0
+    energy_rate = 0.0
     for k in range(2, model.topology.links + 1):
         mass = float(getattr(m, f"W{k}", 0.0)) / 386.088
-        ke = ke + mass * (r[f"AG{k}X"] * r[f"VG{k}X"] + r[f"AG{k}Y"] * r[f"VG{k}Y"])
-        ke = ke + mass * 386.088 * r[f"VG{k}Y"]
+        energy_rate = energy_rate + mass * (r[f"AG{k}X"] * r[f"VG{k}X"]
+                                            + r[f"AG{k}Y"] * r[f"VG{k}Y"])
+        energy_rate = energy_rate + mass * 386.088 * r[f"VG{k}Y"]  # gravity's: W VGY
         zi = float(getattr(m, f"ZI{k}", 0.0))
-        ke = ke + zi * (r[f"TH{k}DD"] * r[f"TH{k}D"] if k > 2 else -15.0 * m.TH2D)
+        energy_rate = energy_rate + zi * (r[f"TH{k}DD"] * r[f"TH{k}D"] if k > 2
+                                          else -15.0 * m.TH2D)
     power = r["TORQ"] * m.TH2D
     ok = r["FRICTION_STATUS"] == 0.0
     assert ok.sum() >= th.size - 2
-    np.testing.assert_allclose(power[ok], (ke + losses)[ok], rtol=0,
+    np.testing.assert_allclose(power[ok], (energy_rate + losses)[ok], rtol=0,
                                atol=1e-10 * np.max(np.abs(power)))
 
 

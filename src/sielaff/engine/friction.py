@@ -39,7 +39,6 @@ contract (array code, given an array of one by the kernel) and the losses, compi
 the numba backend for one position with :mod:`sielaff.engine.arith`'s operations in
 their one-position forms.  The FrictionWarning is declared with the solve's step
 (``warns``) and issued by the model after it, on either backend.
-``FRICTION_SOLUTIONS`` is the numpy engine's only.
 """
 
 from __future__ import annotations
@@ -411,27 +410,30 @@ def _friction_solutions(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0,
                         s4, s34):
     """How many solutions the law has at each position: 1 where it contracts (proved),
     else the search's count (friction_solve.py); asked for, it runs the search everywhere
-    the law need not contract, which the solve itself does only where it must.  Numpy
-    only (the compiled backend refuses it, naming it)."""
-    geo = (R3, R4, c3, s3, c4, s4, s34)
-    f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
-    shape = np.broadcast_shapes(*(np.shape(x) for x in f0 + geo + (TH2D, TH3D, TH4D)))
-
-    def flat_(x):
-        return np.broadcast_to(np.asarray(x, dtype=float), shape).reshape(-1)
-
-    geo_f, f0_f = [flat_(x) for x in geo], tuple(flat_(x) for x in f0)
-    sg = tuple(flat_(x) for x in _signs(TH2D, TH3D, TH4D))
+    the law need not contract, which the solve itself does only where it must."""
+    shape = shape_of((FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
+                      TH2D, TH3D, TH4D, R3, R4, c3, s3, c4, s4, s34))
+    f0 = (flat(FA32X_0, shape), flat(FA32Y_0, shape), flat(FB34X_0, shape),
+          flat(FB34Y_0, shape), flat(FOAX_0, shape), flat(FOAY_0, shape),
+          flat(FOBX_0, shape), flat(FOBY_0, shape))
+    geo = (flat(R3, shape), flat(R4, shape), flat(c3, shape), flat(s3, shape),
+           flat(c4, shape), flat(s4, shape), flat(s34, shape))
+    signs = _signs(TH2D, TH3D, TH4D)
+    sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
+          flat(signs[3], shape))
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    finite = np.all(np.isfinite(np.array(list(f0_f) + geo_f)), axis=0)
+    finite = np.isfinite(f0[0])
+    for v in f0[1:] + geo:
+        finite = finite & np.isfinite(v)
     count = np.where(finite, 1.0, 0.0)
-    R3, R4, c3, s3, c4, s4, s34 = geo_f
-    hard = np.flatnonzero(finite & ~(contraction(mur, R3, R4, s34) < 1.0))
-    if hard.size:
-        count[hard] = solve(tuple(f[hard] for f in f0_f), mur, tuple(s_[hard] for s_ in sg),
-                            R3[hard], R4[hard], c3[hard], s3[hard], c4[hard], s4[hard],
-                            s34[hard], count_all=True)[2]
-    return count.reshape(shape)
+    hard = positions(finite & ~(contraction(mur, geo[0], geo[1], geo[6]) < 1.0))
+    if not none(hard):
+        found = solve(_batch8(f0, hard), mur, _batch4(sg, hard), batch(geo[0], hard),
+                      batch(geo[1], hard), batch(geo[2], hard), batch(geo[3], hard),
+                      batch(geo[4], hard), batch(geo[5], hard), batch(geo[6], hard),
+                      count_all=True)[2]
+        count = scatter(count, hard, unbatch(found), pick(finite, hard))
+    return shaped(count, shape)
 
 
 def mu_r(scene: Any) -> dict[str, float]:

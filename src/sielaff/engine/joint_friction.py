@@ -345,8 +345,7 @@ def _steps(topology: Topology, pins: list[joints.Joint], slides: list[joints.Sli
         for r in range(n):
             total: Any = 0.0
             for c in range(n):
-                if rows[r][c] is not None and not (
-                        isinstance(rows[r][c], float) and rows[r][c] == 0.0):
+                if not (isinstance(rows[r][c], float) and rows[r][c] == 0.0):  # a zero drops
                     total = total + rows[r][c] * (x[c] - x0[c])
             residual.append(total + phi[r])
         system_rows = [[rows[r][c] + jac[(r, c)] if (r, c) in jac else rows[r][c]
