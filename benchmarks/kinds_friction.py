@@ -126,7 +126,7 @@ def main(argv=None) -> int:
             f"* {kind}: {len(wanted)} outputs; Newton iterations a position, mean "
             f"{float(np.mean(ref['FRICTION_ITERATIONS'])):.2f} (numpy) and "
             f"{float(np.mean(got['FRICTION_ITERATIONS'])):.2f} (numba); positions where a "
-            f"joint's relative motion is exactly zero (FRICTION_STATUS 1): "
+            f"joint is at rest to within roundoff (FRICTION_STATUS 1): "
             f"{int(np.count_nonzero(status == 1.0))}, without a solution (2): "
             f"{int(np.count_nonzero(status == 2.0))}; the largest difference between the "
             f"engines {worst:.1e} of the output's scale; NaN in the same places: "

@@ -175,18 +175,26 @@ def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
 
 
 def _friction_loads(kind, mo, out, mur, mu_slide):
-    """The friction couples and the slide's friction force as applied loads."""
+    """The friction couples and the slide's friction force as applied loads.  A relative
+    rate that is zero by the geometry comes out of 40 digits as some 1e-40 of the rates,
+    of either sign: below 1e-30 of them it is zero (no friction there)."""
     loads = []
     w = {k: mo["th" + str(k)][1] for k in range(2, 7) if "th" + str(k) in mo}
     w[1] = mp.mpf(0)
+    rates = sum(abs(x) for x in w.values())
+
+    def sign(x, scale):
+        return 0 if abs(x) <= mp.mpf(10) ** -30 * scale else mp.sign(x)
+
     for (p, by, on), F in ((k, v) for k, v in out.items() if isinstance(k, tuple)):
-        c = f(mur.get(p, 0.0)) * abs(F) * mp.sign(w[by] - w[on])
+        c = f(mur.get(p, 0.0)) * abs(F) * sign(w[by] - w[on], rates)
         loads += [(by, mp.mpc(0), mp.mpc(0), -c), (on, mp.mpc(0), mp.mpc(0), c)]
     sl = slide(kind)
     if sl and mu_slide:
         slider, guide, point, line = sl
         u = e(mo["th" + line][0])
-        force = -f(mu_slide) * abs(out["FN"]) * mp.sign(mo["ths"][1]) * u
+        force = -f(mu_slide) * abs(out["FN"]) * sign(mo["ths"][1],
+                                                      rates * (1 + abs(mo[point][0]))) * u
         loads += [(slider, mo[point][0], force, 0), (guide, mo[point][0], -force, 0)]
     return loads
 

@@ -23,6 +23,7 @@ from sielaff import (
     analyze,
 )
 from sielaff.engine import FOURBAR, OUTPUTS, STEP_CALLS, plan
+from sielaff.engine.compiled import available
 from test_elements import angles, draw
 
 FORCES = ("FA32", "FB34", "FOA", "FOB")
@@ -191,6 +192,32 @@ def test_zero_relative_rotation_is_a_documented_case():
     assert r["TH3D"][0] == r["TH4D"][0]
     assert list(r["FRICTION_STATUS"]) == [1.0, 0.0]
     assert r["PLOSS_B"][0] == 0.0 and r["PLOSS_B"][1] > 0.0
+
+
+@pytest.mark.parametrize("backend", ["numpy", pytest.param("numba", marks=pytest.mark.skipif(
+    not available(), reason="numba is not installed"))])
+def test_a_pin_at_rest_to_within_roundoff_is_at_rest(backend):
+    """In the 1966 example B is at rest at THETA 2 = 180 (TH3D = TH4D) and O4 at 240 (the
+    rocker's dead point, TH4D = 0) by the geometry, but their computed relative rates are
+    a few ulps of either sign, which may differ between machines: each is at rest
+    (engine/friction.py's rest_sign), status 1, no loss there, and the answer the
+    Newton-Euler solve's (which takes a rate within 1e-12 of the fastest link as zero),
+    on both backends; a degree away each pin turns."""
+    sc = Scene(friction=PinFriction(0.2, 0.5))
+    th = np.array([180.0, 181.0, 240.0, 241.0])
+    names = [n + c for n in FORCES for c in "XY"] + ["TORQ", "FRICTION_STATUS", *PLOSS]
+    r = analyze(EXAMPLE, th, names, scene=sc, backend=backend)
+    assert list(r["FRICTION_STATUS"]) == [1.0, 0.0, 1.0, 0.0]
+    assert r["PLOSS_B"][0] == 0.0 and r["PLOSS_O4"][2] == 0.0
+    assert r["PLOSS_B"][1] > 0.0 and r["PLOSS_O4"][3] > 0.0
+    mur = (0.1,) * 4
+    for j, t in enumerate(th):
+        ref = ne.solve(EXAMPLE, float(t), ne.engine_b(EXAMPLE, float(t), sc), mur=mur)
+        assert (0.0 in ref["sg"]) == (j % 2 == 0)
+        scale = max(abs(ref[n]) for n in FORCES)
+        for n in FORCES:
+            assert abs(complex(r[n + "X"][j], r[n + "Y"][j]) - ref[n]) <= 1e-10 * scale, n
+        assert abs(r["TORQ"][j] - ref["TORQ"]) <= 1e-10 * scale * EXAMPLE.R2
 
 
 def test_speed_and_acceleration_arrays_as_simulate_uses_them():

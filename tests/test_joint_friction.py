@@ -134,6 +134,51 @@ def test_the_drive_power_is_the_energy_rate_plus_the_losses(case, backend):
                                atol=1e-10 * np.max(np.abs(power)))
 
 
+#: Each kind's example and the crank angles where one of its joints is at rest by the
+#: geometry (found by scanning the rates over a revolution: exactly, or to some 1e-16 of
+#: them, of either sign): the slider-crank's slide at 0 and 180, its pin B at 90 and 270;
+#: the inverted slider-crank's slide at 180; the six-bars' B at 0 and 180, and at 240 the
+#: Watt's pins O6 (its rocker at a dead point) and the Stephenson's O4.
+AT_REST = [("slider", SLIDER_EXAMPLE, (0.0, 90.0, 180.0, 270.0)),
+           ("inverted", INVERTED_EXAMPLE, (180.0,)),
+           ("watt", WATT_EXAMPLE, (0.0, 180.0, 240.0)),
+           ("stephenson", STEPHENSON_EXAMPLE, (0.0, 180.0, 240.0))]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("case", range(len(AT_REST)))
+def test_a_joint_at_rest_to_within_roundoff_is_at_rest(case, backend):
+    """Where a joint is at rest by the geometry its computed relative rate is zero or a
+    few ulps of either sign, which may differ between machines: the joint is at rest
+    (engine/friction.py's rest_sign: FRICTION_STATUS 1, its friction and its loss zero)
+    and the answer is the 40-digit reference's (where the rate is zero to 40 digits);
+    a degree away every joint moves (status 0)."""
+    kind, m, rest = AT_REST[case]
+    model = model_for(m)
+    th = np.sort(np.concatenate([rest, np.array(rest) + 1.0]))
+    r = analyze(m, th, _outputs(m, backend), scene=_scene(m), backend=backend)
+    at_rest = np.isin(th, rest)
+    np.testing.assert_array_equal(r["FRICTION_STATUS"], np.where(at_rest, 1.0, 0.0))
+    losses = np.array([r[n] for n in model.outputs if n.startswith("PLOSS_")])
+    assert np.all(np.any(losses[:, at_rest] == 0.0, axis=0))
+    assert np.all(losses[:, ~at_rest] > 0.0)
+    compared = 0
+    for j in np.flatnonzero(at_rest):
+        out = ref.newton_euler(kind, m, th[j], m.TH2D, -15.0, branch=(1, 1),
+                               gravity=(0.0, -386.088), mur={p: MUR[p] for p in _pins(m)},
+                               mu_slide=MU_SLIDE if "slide" in _joints(m) else 0.0)
+        scale = max(abs(complex(v)) for k, v in out.items() if isinstance(k, tuple))
+        tscale = abs(float(out["TORQ"])) + 1.0
+        assert float(r["TORQ"][j]) == pytest.approx(float(out["TORQ"]), abs=1e-10 * tscale)
+        for key, F in out.items():
+            if isinstance(key, tuple):
+                name = _force_name(m, *key)
+                assert complex(r[name + "X"][j], r[name + "Y"][j]) == pytest.approx(
+                    complex(F), abs=1e-10 * scale), name
+        compared += 1
+    assert compared == len(rest)
+
+
 def test_friction_that_is_off_costs_nothing():
     m = WATT_EXAMPLE
     model = model_for(m)

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from sielaff.engine.analysis import analyze
-from sielaff.engine.friction import PINS, mu_r
+from sielaff.engine.friction import PINS, mu_r, rest_sign
 from sielaff.engine.loads import Load
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import Mechanism
@@ -67,13 +67,13 @@ def _series(values: np.ndarray) -> np.ndarray | None:
 
 
 def _signs(w, k3, k4) -> list[np.ndarray]:
-    """The signs of the pins' relative rotations (O2, A, B, O4); a ratio within 1e-12 of
-    zero is zero, as the engine's exact zeros are (a series is not exact there)."""
-    def sign(x):
-        return np.where(np.abs(x) <= 1e-12 * (1.0 + np.abs(k3) + np.abs(k4)), 0.0, np.sign(x))
-
+    """The signs of the pins' relative rotations (O2, A, B, O4), zero at rest as the
+    engine's are (engine/friction.py's ``rest_sign``; the rates in units of the crank's,
+    k3 = TH3D / TH2D and k4 = TH4D / TH2D)."""
+    scale = 1.0 + np.abs(k3) + np.abs(k4)
     sw = np.sign(w)
-    return [sw, sw * sign(k3 - 1.0), sw * sign(k4 - k3), sw * sign(k4)]
+    return [sw, sw * rest_sign(k3 - 1.0, scale), sw * rest_sign(k4 - k3, scale),
+            sw * rest_sign(k4, scale)]
 
 
 class FrictionTables:

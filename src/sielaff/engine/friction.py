@@ -20,8 +20,8 @@ solution it has (``FRICTION_SOLUTIONS``) and takes the one continuous from mu = 
 (``FRICTION_STATUS`` 0), or the least friction of the others (3); only where none exists
 does the linkage self-lock: NaN in every output friction changes (``FRICTION_STATUS``
 2, and a :class:`FrictionWarning` says how many).  A pin whose relative rotation is
-exactly zero (a crank at rest, a rocker at its dead point) has static friction of
-unknown size, taken as zero there (``FRICTION_STATUS`` 1).
+zero to within roundoff (a crank at rest, a rocker at its dead point: :func:`rest_sign`)
+has static friction of unknown size, taken as zero there (``FRICTION_STATUS`` 1).
 
 Friction is not superposable: the effect ``corrects`` the model's totals (pin forces
 and TORQ) after the other effects are summed.  Outputs: ``TORQ_FRICTION`` (TORQ with
@@ -84,9 +84,43 @@ TOTALS = ("FA32X", "FA32Y", "FB34X", "FB34Y", "FOAX", "FOAY", "FOBX", "FOBY", "T
 MEANINGS = {
     "TORQ_FRICTION": "the part of TORQ friction takes (TORQ with it less TORQ without)",
     "FRICTION_ITERATIONS": "iterations of the friction solve (0 where it was not iterated)",
-    "FRICTION_STATUS": "friction: 0 solved, 1 a relative motion is zero, 2 no solution "
-                       "(self-locking, NaN), 3 a solution not reached from mu = 0",
+    "FRICTION_STATUS": "friction: 0 solved, 1 a joint at rest (to within roundoff), 2 no "
+                       "solution (self-locking, NaN), 3 a solution not reached from mu = 0",
 }
+
+#: A joint's relative rate within STILL of the position's rates is zero (rest_sign).
+STILL = 1e-12
+
+
+def rest_sign(rel, scale):
+    """The sign of a joint's relative rate, 0 where the joint is at rest to within roundoff.
+
+    Parameters
+    ----------
+    rel : float or array
+        The relative rate [rad/sec at a pin, in/sec or m/s at a slide].
+    scale : float or array
+        The sum of the sizes of the position's link rates [rad/sec] (at a slide, times
+        a length of the linkage [in or m]): what its rates' roundoff is relative to.
+
+    Returns
+    -------
+    0 where ``|rel| <= STILL * scale``, else the sign of ``rel`` (NaN for NaN) [-].
+
+    Notes
+    -----
+    Coulomb friction's direction is the sign of the relative motion, which is not
+    determined where that motion is zero.  A joint at rest by the mechanism's geometry (a
+    rocker at its dead point, TH3D = TH4D at the 1966 example's THETA 2 = 180 deg) has a
+    computed rate of a few ulps of its rates, of either sign, which may differ between
+    machines; taking it as zero (static friction, taken as zero: FRICTION_STATUS 1) makes
+    the answer the same everywhere.  Away from a dead point the relative rate grows in
+    proportion to the crank's turn from it, so a joint in motion passes 1e-12 of the rates
+    within some 1e-12 rad of crank angle (times the link ratios) of its dead point, where
+    either answer is as right as the angle given.  One test for both engines, every kind
+    and the dynamics' friction tables.
+    """
+    return np.where(np.abs(rel) <= STILL * scale, 0.0, np.sign(rel))
 
 
 def loss_meaning(joint: str) -> str:
@@ -166,8 +200,10 @@ def per_joint(friction: Any, keys: tuple[str, ...] = PINS) -> dict[str, PinFrict
 
 
 def _signs(TH2D, TH3D, TH4D):
-    """The sign of each pin's relative rotation (O2, A, B, O4)."""
-    return (np.sign(TH2D), np.sign(TH3D - TH2D), np.sign(TH4D - TH3D), np.sign(TH4D))
+    """The sign of each pin's relative rotation (O2, A, B, O4), 0 at rest (rest_sign)."""
+    scale = np.abs(TH2D) + np.abs(TH3D) + np.abs(TH4D)
+    return (rest_sign(TH2D, scale), rest_sign(TH3D - TH2D, scale),
+            rest_sign(TH4D - TH3D, scale), rest_sign(TH4D, scale))
 
 
 def couples(t, sg):

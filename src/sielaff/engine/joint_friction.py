@@ -18,8 +18,9 @@ steps, each solve starting from the last (continuation from mu = 0, so the answe
 one that grows continuously from the frictionless forces).  A position no step of that
 reaches is self-locking as far as the solve can tell: NaN in every output friction
 changes (``FRICTION_STATUS`` 2; a FrictionWarning says how many).  A joint whose relative
-motion is exactly zero has static friction of unknown size, taken as zero
-(``FRICTION_STATUS`` 1).
+motion is zero to within roundoff (engine/friction.py's ``rest_sign``: within 1e-12 of the
+sum of the links' rates, at a slide times the linkage's length scale) has static friction
+of unknown size, taken as zero (``FRICTION_STATUS`` 1).
 
 How it runs: three steps, each written out for the topology by engine/unroll.py (so the
 numpy engine and the compiled kernel run the same code, but for the linear solve of each
@@ -53,6 +54,7 @@ from sielaff.engine.friction import (
     PinFriction,
     check_friction,
     loss_meaning,
+    rest_sign,
 )
 from sielaff.engine.friction import per_joint as per_joint_of
 from sielaff.engine.iterate import iterated_step
@@ -278,19 +280,24 @@ def _steps(topology: Topology, pins: list[joints.Joint], slides: list[joints.Sli
             finite = finite & np.isfinite(v)
         geometry: list[Any] = [rows[r][c] for r, c in lay.entries] + [L]
         still: Any = False
+        rates: Any = 0.0  # what the rates' roundoff is relative to
+        for k in sorted(vel.w):
+            rates = rates + np.abs(vel.w[k])
         for j in pins:
             rel = vel.w[j.by] - vel.w[j.on]
-            geometry += [np.sign(rel), np.abs(rel)]
-            still = still | (rel == 0.0)
+            sign = rest_sign(rel, rates)
+            geometry += [sign, np.abs(rel)]
+            still = still | (sign == 0.0)
         for s, ks in zip(slides, lay.arm_links, strict=True):
             rate = vel.s[s.label]
             ux, uy = pos.guide[s.label][3]
             px, py = pos.pt[s.point]
-            geometry += [ux, uy, np.sign(rate), np.abs(rate)]
+            sign = rest_sign(rate, rates * L)
+            geometry += [ux, uy, sign, np.abs(rate)]
             for k in ks:  # the moment / L of a unit force along u at the pin, about k's base
                 _, _, bx, by = pos.link[k]
                 geometry.append(((px - bx) * uy - (py - by) * ux) / L)
-            still = still | (rate == 0.0)
+            still = still | (sign == 0.0)
         go = np.where(finite, 1.0, 0.0)
         return (*xs, *geometry, go, np.where(still, 1.0, 0.0), 0.0)
 
