@@ -427,6 +427,29 @@ def test_out_arrays_are_written_in_place(wanted):
         assert np.array_equal(two[n], ref[n]), n
 
 
+def test_large_requests_stream_their_outputs_the_same_bits():
+    """Past kernel.STREAM_FROM values the staged chunks are copied out with non-temporal
+    stores (kernel_math._streaming): the same bits as the plain copy of smaller requests,
+    fresh, into ``out=`` and on two threads (each thread's part past it too)."""
+    from sielaff.engine import kernel as K
+    from sielaff.engine.analysis import prepare
+    from sielaff.engine.scene import Scene as S
+
+    wanted = tuple(RESULTS)
+    n = 2 * (K.STREAM_FROM // len(wanted) + 1000)
+    assert (n // 2) * len(wanted) >= K.STREAM_FROM > 4000 * len(wanted)  # counted
+    th = np.linspace(-30.0, 400.0, n)
+    big, _ = _compiled(EXAMPLE, th, wanted)
+    out = {name: np.full(n, -1.0) for name in wanted}
+    _compiled(EXAMPLE, th, out=out)
+    two, _, _ = C.run(prepare(EXAMPLE, th, list(wanted), S()), threads=2)
+    pieces = [_compiled(EXAMPLE, th[k:k + 4000], wanted)[0] for k in range(0, n, 4000)]
+    for name in wanted:
+        small = np.concatenate([p[name] for p in pieces])
+        for got in (big, out, two):
+            assert np.array_equal(got[name], small, equal_nan=True), name
+
+
 def test_the_old_interface_still_works():
     th = np.linspace(0.0, 360.0, 24).reshape(4, 6)
     out = {name: np.empty((4, 6)) for name in ("TORQ", "SHAK")}

@@ -93,11 +93,14 @@ def test_many_outputs_are_staged_in_chunks_and_few_written_straight():
     assert len(few) <= K.STAGE_FROM < len(many)  # both paths drawn by the two requests
     src = _source(many)
     assert f"for _c in range(0, _n, {K.CHUNK})" in src and "for i in range(_n)" not in src
-    for j in range(len(many)):  # each output staged, then copied out once per chunk
+    for j in range(len(many)):  # each output staged, then copied out once per chunk:
+        # streamed past STREAM_FROM values, else a plain copy
         assert src.count(f"_out{j}[") == 1 and f"_out{j}[_c:_c + _m] = _b{j}[:_m]" in src
+        assert src.count(f"_stream(_out{j}, _b{j}, _c, _m)") == 1
         assert f"_b{j}[_j] = " in src
+    assert f"_far = _n * {len(many)} >= {K.STREAM_FROM}" in src and "_fence()" in src
     src = _source(few)
-    assert "for i in range(_n)" in src and "_blk" not in src
+    assert "for i in range(_n)" in src and "_blk" not in src and "_stream" not in src
     assert all(f"_out{j}[i] = " in src for j in range(len(few)))
 
 

@@ -25,7 +25,9 @@ spill slot.  With more than ``STAGE_FROM`` outputs the loop runs in chunks of ``
 positions whose outputs go to a small staging block first, copied out one output at a
 time after each chunk: a store to each of 71 arrays at each position is 71 streams of
 writes at once, more than a core's prefetchers follow, and every line then waits for its
-read-for-ownership (docs/performance.md measures both).  A step that calls array code
+read-for-ownership (docs/performance.md measures both).  With more than ``STREAM_FROM``
+values in all the copy uses non-temporal stores, which write a line without reading it
+first (half the memory traffic).  A step that calls array code
 (pin friction's solve where the law need not contract) cannot be vectorised: it runs in
 a loop over the chunk of its own, between the loops of the steps before and after it,
 which stay vectorised.  An iterated step (:mod:`sielaff.engine.iterate`: pin friction's
@@ -61,6 +63,11 @@ _MAX_INLINED_ARGS = 30  # CPython's STACK_USE_GUIDELINE
 #: it saves), the chunk of positions staged (its rows stay in a core's L2 cache), and the
 #: staging rows' stagger: rows CHUNK + STAGGER floats apart fall in different cache sets.
 STAGE_FROM, CHUNK, STAGGER = 48, 512, 16
+#: Output values (positions times outputs) from which the staged chunks are copied out
+#: with non-temporal stores (kernel_math._streaming): 32 MiB, more than a core's caches
+#: keep, so that a plain store's first read of each line is memory traffic for nothing;
+#: below it the results may still be in cache when the caller reads them.
+STREAM_FROM = 1 << 22
 
 
 class Uncompilable(ValueError):
@@ -285,7 +292,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     if not staged:
         loop = ["    for i in range(_n):", *("        " + line for line in phases[0])]
     else:  # chunks: the outputs staged in _blk's rows, then copied out one by one
-        loop = [f"    _blk = _np.empty({len(wanted) * row})",
+        loop = [f"    _far = _n * {len(wanted)} >= {STREAM_FROM}",
+                f"    _blk = _np.empty({len(wanted) * row})",
                 *(f"    _b{j} = _blk[{j * row}:{j * row + CHUNK}]" for j in range(len(wanted))),
                 f"    _xblk = _np.empty({len(crossing) * row})",
                 *(f"    _x{j} = _xblk[{j * row}:{j * row + CHUNK}]"
@@ -297,7 +305,11 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 loop += _passes(*passes[k], starts[k], v, crossing)
             loop += ["        for _j in range(_m):", "            i = _c + _j",
                      *("            " + line for line in lines)]
-        loop += [f"        _out{j}[_c:_c + _m] = _b{j}[:_m]" for j in range(len(wanted))]
+        loop += ["        if _far:", *(f"            _stream(_out{j}, _b{j}, _c, _m)"
+                                         for j in range(len(wanted))),
+                 "        else:", *(f"            _out{j}[_c:_c + _m] = _b{j}[:_m]"
+                                   for j in range(len(wanted)))]
+        loop += ["    if _far:", "        _fence()"]
     src = "\n".join([f"def kernel({', '.join(params)}):", "    _bad = 0", *loop,
                      "    return _bad", ""])
     return src, called
@@ -500,9 +512,10 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial)
         glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
-        from sielaff.engine.kernel_math import _intrinsics
+        from sielaff.engine.kernel_math import _intrinsics, _streaming
 
         glob["_select"] = _intrinsics()[0]
+        glob["_stream"], glob["_fence"] = _streaming()
         glob.update({f"_s{j}": forms[_code(st)] for j, st in enumerate(called)})
         # what the text does not show: the derived steps' code, the records' types
         salt = "".join(getattr(_code(st), "__sielaff_source__", st.name) for st in called)
