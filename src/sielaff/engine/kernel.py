@@ -25,8 +25,8 @@ spill slot.  With more than ``STAGE_FROM`` outputs the loop runs in chunks of ``
 positions whose outputs go to a small staging block first, copied out one output at a
 time after each chunk: a store to each of 71 arrays at each position is 71 streams of
 writes at once, more than a core's prefetchers follow, and every line then waits for its
-read-for-ownership (docs/performance.md measures both).  With more than ``STREAM_FROM``
-values in all the copy uses non-temporal stores, which write a line without reading it
+read-for-ownership (docs/performance.md measures both).  With ``STREAM_FROM`` values
+or more in all the copy uses non-temporal stores, which write a line without reading it
 first (half the memory traffic).  A step that calls array code
 (pin friction's solve where the law need not contract) cannot be vectorised: it runs in
 a loop over the chunk of its own, between the loops of the steps before and after it,
