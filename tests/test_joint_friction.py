@@ -60,6 +60,28 @@ def _outputs(m, backend):
             and n.startswith(("F", "MN", "TORQ", "PLOSS_", "AG", "VG", "TH"))]
 
 
+def _agrees_with_the_reference(kind, m, th, r, j):
+    """Position j (crank angle th) of the results r against the 40-digit Newton-Euler
+    solve with _scene's friction: TORQ, every pin force, FN and MN where there is a
+    slide, to 1e-10 of the forces' and the torque's scales; the torque's scale."""
+    out = ref.newton_euler(kind, m, th, m.TH2D, -15.0, branch=(1, 1),
+                           gravity=(0.0, -386.088), mur={p: MUR[p] for p in _pins(m)},
+                           mu_slide=MU_SLIDE if "slide" in _joints(m) else 0.0)
+    scale = max(abs(complex(v)) for k, v in out.items() if isinstance(k, tuple))
+    tscale = abs(float(out["TORQ"])) + 1.0
+    assert float(r["TORQ"][j]) == pytest.approx(float(out["TORQ"]), abs=1e-10 * tscale)
+    forces = [(key, F) for key, F in out.items() if isinstance(key, tuple)]
+    assert len(forces) == len(ref.pins(kind))
+    for key, F in forces:
+        name = _force_name(m, *key)
+        assert abs(complex(r[name + "X"][j], r[name + "Y"][j]) - complex(F)) \
+            <= 1e-10 * scale, name
+    if "FN" in out:
+        assert float(r["FN"][j]) == pytest.approx(float(out["FN"]), abs=1e-10 * scale)
+        assert float(r["MN"][j]) == pytest.approx(float(out["MN"]), abs=1e-10 * tscale)
+    return tscale
+
+
 def _joints(m):
     from sielaff.engine.joint_friction import _names
 
@@ -84,23 +106,9 @@ def test_friction_is_the_independent_fixed_point(case, backend):
     for th in (23.0, 141.0, 262.0):
         r = analyze(m, [th], _outputs(m, backend), scene=_scene(m), backend=backend)
         assert r["FRICTION_STATUS"][0] == 0.0
-        out = ref.newton_euler(kind, m, th, m.TH2D, -15.0, branch=(1, 1),
-                               gravity=(0.0, -386.088),
-                               mur={p: MUR[p] for p in _pins(m)},
-                               mu_slide=MU_SLIDE if "slide" in _joints(m) else 0.0)
-        scale = max(abs(complex(v)) for k, v in out.items() if isinstance(k, tuple))
-        tscale = abs(float(out["TORQ"])) + 1.0
-        assert float(r["TORQ"][0]) == pytest.approx(float(out["TORQ"]), abs=1e-10 * tscale)
-        for key, F in out.items():
-            if isinstance(key, tuple):
-                name = _force_name(m, *key)
-                assert float(r[name + "X"][0]) == pytest.approx(float(F.real), abs=1e-10 * scale)
-                assert float(r[name + "Y"][0]) == pytest.approx(float(F.imag), abs=1e-10 * scale)
-                compared += 1
-        if "FN" in out:
-            assert float(r["FN"][0]) == pytest.approx(float(out["FN"]), abs=1e-10 * scale)
-            assert float(r["MN"][0]) == pytest.approx(float(out["MN"]), abs=1e-10 * tscale)
-    assert compared == 3 * len(ref.pins(kind))
+        tscale = _agrees_with_the_reference(kind, m, th, r, 0)
+        compared += 1
+    assert compared == 3
     # and friction did something: TORQ moved by more than the tolerance
     assert np.max(np.abs(analyze(m, [23.0, 141.0], _outputs(m, backend), scene=_scene(m),
                                  backend=backend)["TORQ_FRICTION"])) > 1e-3 * tscale
@@ -164,17 +172,7 @@ def test_a_joint_at_rest_to_within_roundoff_is_at_rest(case, backend):
     assert np.all(losses[:, ~at_rest] > 0.0)
     compared = 0
     for j in np.flatnonzero(at_rest):
-        out = ref.newton_euler(kind, m, th[j], m.TH2D, -15.0, branch=(1, 1),
-                               gravity=(0.0, -386.088), mur={p: MUR[p] for p in _pins(m)},
-                               mu_slide=MU_SLIDE if "slide" in _joints(m) else 0.0)
-        scale = max(abs(complex(v)) for k, v in out.items() if isinstance(k, tuple))
-        tscale = abs(float(out["TORQ"])) + 1.0
-        assert float(r["TORQ"][j]) == pytest.approx(float(out["TORQ"]), abs=1e-10 * tscale)
-        for key, F in out.items():
-            if isinstance(key, tuple):
-                name = _force_name(m, *key)
-                assert complex(r[name + "X"][j], r[name + "Y"][j]) == pytest.approx(
-                    complex(F), abs=1e-10 * scale), name
+        _agrees_with_the_reference(kind, m, th[j], r, j)
         compared += 1
     assert compared == len(rest)
 
