@@ -335,7 +335,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
 
         from sielaff.engine.kernel_math import _streaming
 
-        stream, fence = _streaming()
+        copy_out, fence = _streaming()
 
         @numba.njit(nogil=True)
         def fill(arrays, n):
@@ -343,7 +343,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
             for c in range(0, n, K.CHUNK):
                 m = min(K.CHUNK, n - c)
                 for j in range(len(arrays)):
-                    stream(arrays[j], buf[j], c, m)
+                    copy_out(arrays[j], buf[j], c, m, True)
             fence()
 
         arrays = tuple(outs[name] for name in results[:k])

@@ -314,6 +314,15 @@ _SOLVED = tuple(n[:-2] + "_h" for n in _FIXED)
 # (an iterated step: engine/iterate.py), that solve, and the losses.
 
 
+def _all_finite(values):
+    """Where every one of ``values`` (arrays or numbers) is finite: where the friction's
+    solve runs (a pin force or an angle that is NaN or infinite stops it)."""
+    finite = np.isfinite(values[0])
+    for v in values[1:]:
+        finite = finite & np.isfinite(v)
+    return finite
+
+
 @step(provides=("ft_o2_0", "ft_a_0", "ft_b_0", "ft_o4_0", "friction_go"),
       needs=_MUR + _F0 + ("c2", "s2", "c3", "s3", "c4", "s4", "s34"), zero_when=_MUR)
 def _friction_start(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0,
@@ -321,9 +330,7 @@ def _friction_start(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0, FB3
     """The fixed point's start, the frictionless pins' couples mu r |F0|, and where it
     runs (1.0: every force and angle finite)."""
     f0 = (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0)
-    finite = np.isfinite(f0[0])
-    for v in f0[1:] + (c2, s2, c3, s3, c4, s4, s34):
-        finite = finite & np.isfinite(v)
+    finite = _all_finite(f0 + (c2, s2, c3, s3, c4, s4, s34))
     t = _torques((MUR_O2, MUR_A, MUR_B, MUR_O4), f0)
     return t[0], t[1], t[2], t[3], np.where(finite, 1.0, 0.0)
 
@@ -458,9 +465,7 @@ def _friction_solutions(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0,
     sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
           flat(signs[3], shape))
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
-    finite = np.isfinite(f0[0])
-    for v in f0[1:] + geo:
-        finite = finite & np.isfinite(v)
+    finite = _all_finite(f0 + geo)
     count = np.where(finite, 1.0, 0.0)
     hard = positions(finite & ~(contraction(mur, geo[0], geo[1], geo[6]) < 1.0))
     if not none(hard):

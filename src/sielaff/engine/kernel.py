@@ -305,10 +305,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 loop += _passes(*passes[k], starts[k], v, crossing)
             loop += ["        for _j in range(_m):", "            i = _c + _j",
                      *("            " + line for line in lines)]
-        loop += ["        if _far:", *(f"            _stream(_out{j}, _b{j}, _c, _m)"
-                                         for j in range(len(wanted))),
-                 "        else:", *(f"            _out{j}[_c:_c + _m] = _b{j}[:_m]"
-                                   for j in range(len(wanted)))]
+        loop += [f"        _copy_out(_out{j}, _b{j}, _c, _m, _far)" for j in range(len(wanted))]
         loop += ["    if _far:", "        _fence()"]
     src = "\n".join([f"def kernel({', '.join(params)}):", "    _bad = 0", *loop,
                      "    return _bad", ""])
@@ -515,7 +512,7 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
         from sielaff.engine.kernel_math import _intrinsics, _streaming
 
         glob["_select"] = _intrinsics()[0]
-        glob["_stream"], glob["_fence"] = _streaming()
+        glob["_copy_out"], glob["_fence"] = _streaming()
         glob.update({f"_s{j}": forms[_code(st)] for j, st in enumerate(called)})
         # what the text does not show: the derived steps' code, the records' types
         salt = "".join(getattr(_code(st), "__sielaff_source__", st.name) for st in called)

@@ -109,14 +109,17 @@ def _intrinsics():
 
 
 def _streaming():
-    """(_stream, _fence) for the kernel's copy of a staged chunk into its outputs.
+    """(_copy_out, _fence) for the kernel's copy of a staged chunk into its outputs.
 
-    ``_stream(dst, src, start, m)`` copies ``src[:m]`` (float64) to ``dst[start:start + m]``
-    with non-temporal stores (MOVNTI, eight bytes at a time: written around the caches,
-    so no line of the output is read from memory before it is written, which a plain
-    store does: half the memory traffic); ``_fence()`` (SFENCE) orders those stores before
-    whatever the kernel's caller does next, in any thread.  The bytes are the same as a
-    plain copy's.  On a CPU other than x86-64: plain stores and no fence."""
+    ``_copy_out(dst, src, start, m, far)`` copies ``src[:m]`` (float64) to
+    ``dst[start:start + m]``: where ``far``, with non-temporal stores (MOVNTI, eight bytes
+    at a time: written around the caches, so no line of the output is read from memory
+    before it is written, which a plain store does: half the memory traffic), else with
+    plain ones (a small result stays in cache for its reader); no bounds check, no
+    temporary (the kernel's rows never overlap its outputs).  ``_fence()`` (SFENCE) orders
+    the non-temporal stores before whatever the kernel's caller does next, in any thread.
+    The bytes are the same either way.  On a CPU other than x86-64: plain stores and no
+    fence."""
     import platform
 
     import llvmlite.ir as ir
@@ -126,32 +129,42 @@ def _streaming():
     x86 = platform.machine().lower() in ("x86_64", "amd64")
 
     @intrinsic
-    def stream(typingctx, dst, src, start, m):
+    def copy_out(typingctx, dst, src, start, m, far):
         if not all(isinstance(a, types.Array) and a.ndim == 1 and a.dtype == types.float64
                    for a in (dst, src)) or not all(isinstance(a, types.Integer)
                                                    for a in (start, m)):
             return None
+        if not isinstance(far, types.Boolean):
+            return None
 
         def codegen(context, builder, sig, args):
-            d, s, c, n = args
+            d, s, c, n, f = args
             da = context.make_array(sig.args[0])(context, builder, d)
             sa = context.make_array(sig.args[1])(context, builder, s)
             c = context.cast(builder, c, sig.args[2], types.intp)
             n = context.cast(builder, n, sig.args[3], types.intp)
             i64 = ir.IntType(64).as_pointer()
             hint = builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)])
-            with cgutils.for_range(builder, n) as loop:
-                i = loop.index
-                at = cgutils.get_item_pointer(context, builder, sig.args[1], sa, [i])
-                to = cgutils.get_item_pointer(context, builder, sig.args[0], da,
-                                              [builder.add(c, i)])
-                store = builder.store(builder.load(builder.bitcast(at, i64)),
-                                      builder.bitcast(to, i64))
-                if x86:  # an integer store: LLVM makes it MOVNTI, which needs no alignment
-                    store.set_metadata("nontemporal", hint)
+
+            def loop(streamed: bool) -> None:
+                with cgutils.for_range(builder, n) as it:
+                    i = it.index
+                    at = cgutils.get_item_pointer(context, builder, sig.args[1], sa, [i])
+                    to = cgutils.get_item_pointer(context, builder, sig.args[0], da,
+                                                  [builder.add(c, i)])
+                    store = builder.store(builder.load(builder.bitcast(at, i64)),
+                                          builder.bitcast(to, i64))
+                    if streamed:  # an integer store: LLVM makes it MOVNTI (no alignment)
+                        store.set_metadata("nontemporal", hint)
+
+            with builder.if_else(f) as (then, otherwise):
+                with then:
+                    loop(x86)
+                with otherwise:
+                    loop(False)
             return context.get_dummy_value()
 
-        return types.void(dst, src, start, m), codegen
+        return types.void(dst, src, start, m, far), codegen
 
     @intrinsic
     def fence(typingctx):
@@ -164,7 +177,7 @@ def _streaming():
 
         return types.void(), codegen
 
-    return stream, fence
+    return copy_out, fence
 
 
 # Python stand-ins for the intrinsics (the transcendentals run as plain Python in the tests)
