@@ -427,6 +427,52 @@ def test_out_arrays_are_written_in_place(wanted):
         assert np.array_equal(two[n], ref[n]), n
 
 
+def test_the_copy_out_gives_the_same_bytes_at_any_alignment_and_length():
+    """kernel_math._streaming's copy of a staged row into an output: streamed (far) or
+    plain, every length up to past a chunk, every start, the destination at every byte
+    offset (a float64 array need not be aligned to 8 bytes: a view of a byte buffer) and
+    NaN's bits kept; each part of the streamed copy drawn (the scalar head and tail, the
+    32-byte stores of the aligned middle) and, on x86-64, its stores non-temporal."""
+    import platform
+
+    import numba
+
+    from sielaff.engine.kernel_math import _streaming
+
+    copy_out, fence = _streaming()
+
+    @numba.njit(nogil=True)
+    def copied(dst, src, start, m, far):
+        copy_out(dst, src, start, m, far)
+        fence()
+
+    src = np.random.default_rng(5).standard_normal(600)
+    src[3] = np.nan
+    src.view(np.uint64)[4] = 0x7FF8000000000001  # a NaN of other bits
+    parts = set()
+    for far in (True, False):
+        for offset in range(9):
+            for m in (0, 1, 3, 4, 5, 8, 9, 31, 512, 517):
+                for start in (0, 1, 2, 3, 5):
+                    raw = np.zeros(620 * 8 + 16, dtype=np.uint8)
+                    dst = np.frombuffer(raw[offset:offset + 620 * 8].data, dtype=np.float64)
+                    dst[:] = -1.0
+                    want = dst.copy()
+                    want[start:start + m] = src[:m]
+                    copied(dst, src, start, m, far)
+                    assert np.array_equal(dst.view(np.uint64), want.view(np.uint64)), (
+                        far, offset, m, start)
+                    address = dst.ctypes.data + 8 * start
+                    lead = min(m, (-address % 32) // 8) if address % 8 == 0 else m
+                    parts.update({("head", far)} if lead else set())
+                    parts.update({("vector", far)} if (m - lead) // 4 else set())
+                    parts.update({("tail", far)} if (m - lead) % 4 else set())
+    assert parts >= {("head", True), ("vector", True), ("tail", True)}  # counted
+    if platform.machine().lower() in ("x86_64", "amd64"):
+        asm = copied.inspect_asm(copied.signatures[0])
+        assert "movnti" in asm and "vmovntp" in asm and "sfence" in asm
+
+
 def test_large_requests_stream_their_outputs_the_same_bits():
     """Past kernel.STREAM_FROM values the staged chunks are copied out with non-temporal
     stores (kernel_math._streaming): the same bits as the plain copy of smaller requests,

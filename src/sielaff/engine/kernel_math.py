@@ -112,11 +112,12 @@ def _streaming():
     """(_copy_out, _fence) for the kernel's copy of a staged chunk into its outputs.
 
     ``_copy_out(dst, src, start, m, far)`` copies ``src[:m]`` (float64) to
-    ``dst[start:start + m]``: where ``far``, with non-temporal stores (MOVNTI, eight bytes
-    at a time: written around the caches, so no line of the output is read from memory
-    before it is written, which a plain store does: half the memory traffic), else with
-    plain ones (a small result stays in cache for its reader); no bounds check, no
-    temporary (the kernel's rows never overlap its outputs).  ``_fence()`` (SFENCE) orders
+    ``dst[start:start + m]``: where ``far``, with non-temporal stores (written around the
+    caches, so no line of the output is read from memory before it is written, which a
+    plain store does: half the memory traffic; 32 bytes a store from the destination's
+    first 32-byte boundary, eight before it and after the last), else by llvm.memcpy
+    (a small result stays in cache for its reader); no bounds check, no temporary (the
+    kernel's rows never overlap its outputs).  ``_fence()`` (SFENCE) orders
     the non-temporal stores before whatever the kernel's caller does next, in any thread.
     The bytes are the same either way.  On a CPU other than x86-64: plain stores and no
     fence."""
@@ -127,6 +128,40 @@ def _streaming():
     from numba.extending import intrinsic
 
     x86 = platform.machine().lower() in ("x86_64", "amd64")
+
+    def _nt_copy(builder, to, at, n):
+        """n doubles from ``at`` to ``to`` by non-temporal stores: MOVNTI (eight bytes, any
+        alignment) up to the first 32-byte boundary of ``to``, then four doubles a store
+        (VMOVNTPS, which needs that alignment), then MOVNTI for the rest; MOVNTI all the
+        way for a destination not aligned to 8 bytes."""
+        i64, one = ir.IntType(64), ir.Constant(ir.IntType(32), 1)
+        hint = builder.module.add_metadata([one])
+        vec = ir.VectorType(ir.DoubleType(), 4)
+        addr = builder.ptrtoint(to, i64)
+        aligned8 = builder.icmp_unsigned("==", builder.and_(addr, ir.Constant(i64, 7)),
+                                         ir.Constant(i64, 0))
+        lead = builder.lshr(builder.and_(builder.neg(addr), ir.Constant(i64, 31)),
+                            ir.Constant(i64, 3))
+        lead = builder.select(aligned8, lead, n)
+        lead = builder.select(builder.icmp_signed("<", lead, n), lead, n)
+        quads = builder.sdiv(builder.sub(n, lead), ir.Constant(i64, 4))
+        body = builder.add(lead, builder.mul(quads, ir.Constant(i64, 4)))
+
+        def scalars(first, count):
+            with cgutils.for_range(builder, count) as loop:
+                i = builder.add(first, loop.index)
+                v = builder.load(builder.bitcast(builder.gep(at, [i]), i64.as_pointer()))
+                st = builder.store(v, builder.bitcast(builder.gep(to, [i]), i64.as_pointer()))
+                st.set_metadata("nontemporal", hint)
+
+        scalars(ir.Constant(i64, 0), lead)
+        with cgutils.for_range(builder, quads) as loop:
+            i = builder.add(lead, builder.mul(loop.index, ir.Constant(i64, 4)))
+            v = builder.load(builder.bitcast(builder.gep(at, [i]), vec.as_pointer()), align=8)
+            st = builder.store(v, builder.bitcast(builder.gep(to, [i]), vec.as_pointer()),
+                               align=32)
+            st.set_metadata("nontemporal", hint)
+        scalars(body, builder.sub(n, body))
 
     @intrinsic
     def copy_out(typingctx, dst, src, start, m, far):
@@ -143,25 +178,15 @@ def _streaming():
             sa = context.make_array(sig.args[1])(context, builder, s)
             c = context.cast(builder, c, sig.args[2], types.intp)
             n = context.cast(builder, n, sig.args[3], types.intp)
-            i64 = ir.IntType(64).as_pointer()
-            hint = builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)])
-
-            def loop(streamed: bool) -> None:
-                with cgutils.for_range(builder, n) as it:
-                    i = it.index
-                    at = cgutils.get_item_pointer(context, builder, sig.args[1], sa, [i])
-                    to = cgutils.get_item_pointer(context, builder, sig.args[0], da,
-                                                  [builder.add(c, i)])
-                    store = builder.store(builder.load(builder.bitcast(at, i64)),
-                                          builder.bitcast(to, i64))
-                    if streamed:  # an integer store: LLVM makes it MOVNTI (no alignment)
-                        store.set_metadata("nontemporal", hint)
-
-            with builder.if_else(f) as (then, otherwise):
+            to = cgutils.get_item_pointer(context, builder, sig.args[0], da, [c])
+            at = cgutils.get_item_pointer(context, builder, sig.args[1], sa,
+                                          [ir.Constant(n.type, 0)])
+            with builder.if_else(builder.and_(f, ir.Constant(ir.IntType(1), x86))) as (
+                    then, otherwise):
                 with then:
-                    loop(x86)
-                with otherwise:
-                    loop(False)
+                    _nt_copy(builder, to, at, n)
+                with otherwise:  # plain stores: llvm.memcpy
+                    cgutils.raw_memcpy(builder, to, at, n, 8, align=8)
             return context.get_dummy_value()
 
         return types.void(dst, src, start, m, far), codegen
