@@ -131,11 +131,17 @@ def motion(kind, m, th0_deg, w, a=0.0, branch=(1, 1)):
         return pts, ang
 
     pts, ang = at(mp.mpf(0))
+
+    def turned(t, name):  # the angle within pi of its value at t = 0: an angle at +-pi
+        # (mpmath's arg at a line pointing along -x) would jump by 2 pi across t = 0
+        x = at(t)[1][name]
+        return x - 2 * mp.pi * mp.nint((x - ang[name]) / (2 * mp.pi))
+
     out = {}
     for name in pts:
         out[name] = [mp.diff(lambda t, n=name: at(t)[0][n], 0, k) for k in range(3)]
     for name in ang:
-        out["th" + name] = [mp.diff(lambda t, n=name: at(t)[1][n], 0, k) for k in range(3)]
+        out["th" + name] = [mp.diff(lambda t, n=name: turned(t, n), 0, k) for k in range(3)]
     return out
 
 
@@ -170,6 +176,9 @@ def newton_euler(kind, m, th0_deg, w, a=0.0, branch=(1, 1), gravity=(0.0, 0.0),
                 1 + abs(last)):
             break
         last = out["TORQ"]
+    else:
+        raise ArithmeticError(f"the friction's fixed point at {th0_deg} deg did not settle "
+                              "in 200 iterations")
     out["motion"] = mo
     return out
 

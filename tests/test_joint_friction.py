@@ -145,10 +145,10 @@ def test_the_drive_power_is_the_energy_rate_plus_the_losses(case, backend):
 #: Each kind's example and the crank angles where one of its joints is at rest by the
 #: geometry (found by scanning the rates over a revolution: exactly, or to some 1e-16 of
 #: them, of either sign): the slider-crank's slide at 0 and 180, its pin B at 90 and 270;
-#: the inverted slider-crank's slide at 180; the six-bars' B at 0 and 180, and at 240 the
-#: Watt's pins O6 (its rocker at a dead point) and the Stephenson's O4.
+#: the inverted slider-crank's slide at 0 and 180; the six-bars' B at 0 and 180, and at
+#: 240 the Watt's pins O6 (its rocker at a dead point) and the Stephenson's O4.
 AT_REST = [("slider", SLIDER_EXAMPLE, (0.0, 90.0, 180.0, 270.0)),
-           ("inverted", INVERTED_EXAMPLE, (180.0,)),
+           ("inverted", INVERTED_EXAMPLE, (0.0, 180.0)),
            ("watt", WATT_EXAMPLE, (0.0, 180.0, 240.0)),
            ("stephenson", STEPHENSON_EXAMPLE, (0.0, 180.0, 240.0))]
 
