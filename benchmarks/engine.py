@@ -58,12 +58,13 @@ from sielaff.emulator.cards import parse_deck  # noqa: E402
 from sielaff.emulator.program import SHEET_FIELDS  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from timing import machine, publish, rounds, table  # noqa: E402
+from timing import machine, publish, rounds, table, touch_memory  # noqa: E402
 
 DOC = ROOT / "docs" / "performance.md"
 HEADING = "## Engine"
 THZERO, DELTA, THMAX = 0.0, 0.00036, 359.9996  # 10^6 positions, 0 .. 359.99964
 POSITIONS_AND_RATES = ["ATH3", "ATH4", "TH3D", "TH4D"]
+TOUCH_GIB = 4.0  # written once before the compiled section's rounds (timing.touch_memory)
 
 
 def load_harness():
@@ -307,17 +308,15 @@ def compiled_section(args, m, ath2, gfortran) -> int:
     two = prepare(m, ath2, list(results), Scene())
     from sielaff.engine import kernel as K
 
-    straight: dict = {}  # the unstaged kernels, apart from the backend's own
-    rows = dict(zip(results, compiled._fresh(len(results), n), strict=True))
-
-    def unstaged(fn):
+    def chunked(fn):
+        """fn with the streamed kernel off (compiled.STREAMED): the chunked kernel, whose
+        copy of each chunk streams, or for few outputs the loop with plain stores."""
         def run():
-            saved = K.STAGE_FROM, K._KERNELS
-            K.STAGE_FROM, K._KERNELS = 10**9, straight
+            compiled.STREAMED = False
             try:
                 fn()
             finally:
-                K.STAGE_FROM, K._KERNELS = saved
+                compiled.STREAMED = True
         return run
 
     def fresh_arrays(k):
@@ -374,14 +373,12 @@ def compiled_section(args, m, ath2, gfortran) -> int:
                                 scene=effects)),
         (f"no kernel: the block of {len(kin)} fresh results made and written once",
          fresh_arrays(len(kin))),
-        (f"`backend='numba'`, all {len(results)} results into reused arrays, written "
-         "straight from the loop (not staged: engine/kernel.py's STAGE_FROM raised)",
-         unstaged(lambda: engine.analyze(m, ath2, out={k: outs[k] for k in results},
-                                         backend="numba"))),
-        (f"`backend='numba'`, all {len(results)} results into the rows of one block "
-         "(`out=`), staged", lambda: engine.analyze(m, ath2, out=rows, backend="numba")),
-        ("the same rows, written straight from the loop (not staged)",
-         unstaged(lambda: engine.analyze(m, ath2, out=rows, backend="numba"))),
+        (f"`backend='numba'`, all {len(results)} results into reused arrays, the chunked "
+         "kernel (compiled.STREAMED off: staged, each chunk's copy streamed)",
+         chunked(numba(results))),
+        ("the same, fresh arrays", chunked(numba(results, False))),
+        (f"`backend='numba'`, kinematics ({len(kin)} results), fresh arrays, plain stores "
+         "(compiled.STREAMED off)", chunked(numba(kin, False))),
     ]
     # friction, springs and dampers on: compiled, or refused (then only said)
     rubbing = Scene(friction=engine.PinFriction(0.1, 0.2), elements=effects.elements)
@@ -403,6 +400,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
              "copy (non-temporal stores) from a staged chunk of zeros (the memory traffic "
              "alone, streamed)")
     configs.append((floor, streamed_fill(len(results))))
+    first, again = touch_memory(TOUCH_GIB)
     for _, fn in configs:  # compile (or load the kernel cache) outside the timing
         fn()
     series, loads = [], []
@@ -443,7 +441,11 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"configuration in each of {args.rounds} rounds; median (range).  The ratio is "
         "taken in CPU time; wall time beside it.  Every kernel is compiled (or loaded from "
         "the kernel cache) before the timing.  Load average (1 min) over the section: "
-        f"{min(loads):.1f} to {max(loads):.1f} on this machine's {os.cpu_count()} cores.", "",
+        f"{min(loads):.1f} to {max(loads):.1f} on this machine's {os.cpu_count()} cores.  "
+        f"Before the rounds the script wrote {TOUCH_GIB:g} GiB of new arrays twice, freeing "
+        f"them between: {first:.2f} s of CPU the first time, {again:.2f} s the second (a "
+        "virtual machine's first write of memory its guest has not used yet; without this, "
+        "a round that allocates can pay it).", "",
         *table(series), "",
         f"* All results into reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
         f"({goal(med[0], 6)}); fresh arrays **{med[1]:.2f}x** ({goal(med[1], 3.5)}).  "
@@ -466,11 +468,13 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"stores) is {med[7]:.2f}x gfortran ({cpu[7]:.3f} s against the kernel's "
         f"{cpu[0]:.3f} s); the kernel's streaming copy with no arithmetic "
         f"{med[-1]:.2f}x ({cpu[-1]:.3f} s).",
-        f"* The {len(results)} outputs staged in chunks of {K.CHUNK} positions and copied "
-        f"out one by one (with non-temporal stores from {K.STREAM_FROM:,} values: "
-        f"engine/kernel.py's STREAM_FROM), or written straight from the loop: {cpu[0]:.3f} s and "
-        f"{cpu[13]:.3f} s into the arrays above (each made by np.empty), {cpu[14]:.3f} s "
-        f"and {cpu[15]:.3f} s into the rows of one block.",
+        f"* From {K.STREAM_FROM:,} values (engine/kernel.py's STREAM_FROM) the loop stores "
+        "each output by a non-temporal store of whole vectors on 64-byte boundaries (the "
+        "streamed kernel, engine/compiled.py's runs): all results into reused arrays "
+        f"{cpu[0]:.3f} s, fresh {cpu[1]:.3f} s, kinematics fresh {cpu[2]:.3f} s; the chunked "
+        f"kernel instead (its outputs staged in chunks of {K.CHUNK} positions, each "
+        f"chunk's copy streamed; kinematics by plain stores): {cpu[13]:.3f} s, "
+        f"{cpu[14]:.3f} s and {cpu[15]:.3f} s.",
         f"* Two threads (the kernel releases the GIL): {wall[6]:.2f}x gfortran in wall time "
         f"against {wall[0]:.2f}x on one thread ({med[6]:.2f}x in CPU time, the threads' "
         "CPU added).",

@@ -5,8 +5,10 @@ The four-bar's kernel of all 71 results (``analyze(..., backend="numba")``, ``ou
 report's example) is timed by itself, its arguments captured from one call:
 
 * **in cache** (``N_CACHE`` positions, whose 71 output rows fit a core's L2 cache) and
-  over 10^6 positions, staged (the backend's own choice for 71 outputs) and written
-  straight (``engine/kernel.py``'s ``STAGE_FROM`` raised past 71);
+  over 10^6 positions, staged (the chunked kernel's choice for 71 outputs) and written
+  straight (``engine/kernel.py``'s ``STAGE_FROM`` raised past 71), both with
+  ``engine/compiled.py``'s ``STREAMED`` off; and over 10^6 positions the streamed kernel
+  (the backend's choice there): its first run, of whole runs of positions;
 * **knocked out**: the kernel compiled again with one of its transcendentals replaced by
   a multiply-add of its arguments (wrong answers; timing only): atan2's octant
   reduction and polynomial (``kernel_math._half_turn``), the mod-360 reduction
@@ -88,10 +90,13 @@ def _fresh_compiler() -> None:
     K._ARRAY_CODE.clear()
 
 
-def captured(m: Any, n: int, straight: bool = False, knock: tuple[str, Any] | None = None
-             ) -> tuple[Any, tuple[Any, ...]]:
+def captured(m: Any, n: int, straight: bool = False, knock: tuple[str, Any] | None = None,
+             streamed: bool = False) -> tuple[Any, tuple[Any, ...]]:
     """The kernel of all results for ``n`` crank angles into reused arrays, and the
-    arguments the backend calls it with: (kernel, args)."""
+    arguments the backend calls it with first: (kernel, args).  The chunked kernel, or
+    with ``streamed`` the streamed one (engine/compiled.py's STREAMED) and its first run,
+    the one of whole runs of positions."""
+    from sielaff.engine import compiled
     from sielaff.engine import kernel as K
     from sielaff.engine import kernel_math as KM
 
@@ -103,13 +108,17 @@ def captured(m: Any, n: int, straight: bool = False, knock: tuple[str, Any] | No
         kernel = saved_for(*a, **k)
 
         def call(*args: Any) -> Any:
-            got["kernel"], got["args"] = kernel, args
+            got.setdefault("kernel", kernel)
+            got.setdefault("args", args)
             return kernel(*args)
+        if K.streamed(kernel):
+            K._STREAMED.add(call)
         return call
 
     if knock or straight:
         _fresh_compiler()
     try:
+        compiled.STREAMED = streamed
         if straight:
             K.STAGE_FROM = 10**9
         if knock:
@@ -119,7 +128,7 @@ def captured(m: Any, n: int, straight: bool = False, knock: tuple[str, Any] | No
         out = {name: np.empty(n) for name in engine.RESULTS}
         engine.analyze(m, th, out=out, backend="numba")
     finally:
-        K.kernel_for, K.STAGE_FROM = saved_for, saved_stage
+        K.kernel_for, K.STAGE_FROM, compiled.STREAMED = saved_for, saved_stage, True
         if knock:
             setattr(KM, knock[0], saved_fn)
     if knock or straight:
@@ -184,6 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     base_big = captured(m, N_BIG)
     straight_small = captured(m, N_CACHE, straight=True)
     straight_big = captured(m, N_BIG, straight=True)
+    streamed_big = captured(m, N_BIG, streamed=True)
     knocked = {name: captured(m, N_CACHE, knock=k) for name, k in KNOCKOUTS.items()}
     ref_small = repeated(*base_small, reps)
     ref_big = repeated(*base_big, 2)
@@ -197,6 +207,8 @@ def main(argv: list[str] | None = None) -> int:
         (f"the kernel, staged, {N_BIG:,} positions", ref_big, ref_big, 2 * N_BIG),
         (f"written straight, {N_BIG:,} positions", repeated(*straight_big, 2), ref_big,
          2 * N_BIG),
+        (f"streamed (the backend's choice here), {N_BIG:,} positions",
+         repeated(*streamed_big, 2), ref_big, 2 * streamed_big[1][0]),
     ]
     series, per = [], []
     for name, fn, ref, positions in configs:
@@ -233,10 +245,11 @@ def main(argv: list[str] | None = None) -> int:
     lines.append("* In cache, of the full kernel's " + f"{full:.1f} ns per position: " + "; ".join(
         f"{name.split(' (')[0]} {b - a:.1f} ns ({100 * (b - a) / b:.0f}%)"
         for name, (a, b) in knock_rows) + ".")
-    big, big_straight = per[-2][0], per[-1][0]
+    big, big_straight, big_streamed = per[-3][0], per[-2][0], per[-1][0]
     lines.append(f"* Over {N_BIG:,} positions: staged {big:.1f} ns per position, written "
-                 f"straight {big_straight:.1f} ns; in cache staged {per[0][0]:.1f} ns, "
-                 f"straight {per[1][0]:.1f} ns.")
+                 f"straight {big_straight:.1f} ns, streamed (each output's vectors stored "
+                 f"around the caches straight from the loop) {big_streamed:.1f} ns; in cache "
+                 f"staged {per[0][0]:.1f} ns, straight {per[1][0]:.1f} ns.")
     if loop:
         lanes = loop["lanes"]
         lines.append(

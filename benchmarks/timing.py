@@ -32,6 +32,25 @@ def measure(fn: Callable[[], object]) -> tuple[float, float]:
     return time.perf_counter() - w0, _cpu() - c0
 
 
+def touch_memory(gib: float) -> tuple[float, float]:
+    """CPU seconds to write ``gib`` GiB of new arrays, the first time and again (each
+    freed after).  On a virtual machine the first write of memory the guest has not used
+    before can cost many times the second: done before the rounds, so that a round that
+    allocates measures the program, not that."""
+    import numpy
+
+    n = int(gib * (1 << 27))  # floats
+
+    def once() -> float:
+        c = _cpu()
+        a = numpy.empty(n)
+        a.fill(1.0)
+        del a
+        return _cpu() - c
+
+    return once(), once()
+
+
 @dataclass
 class Series:
     """Rounds of one configuration and of the reference beside it."""

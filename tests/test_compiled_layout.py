@@ -1,5 +1,6 @@
 """How the compiled backend lays out its work (engine/compiled.py, engine/kernel.py),
 checked without numba: the fresh results as rows of one block aligned to a huge page,
+each row on a cache line,
 the kernel's order of the plan's steps (a schedule that keeps fewer values alive, each
 step after what it needs), its outputs staged in chunks when there are many, a serial
 step in a loop of its own and an iterated step in passes; with numba, the staged loop's
@@ -31,11 +32,12 @@ def test_fresh_results_are_separate_rows_of_one_aligned_block(k, n):
         assert a.flags.c_contiguous and a.flags.writeable
     for a, b in itertools.combinations(rows, 2):
         assert not np.shares_memory(a, b)
+    assert all(a.ctypes.data % 64 == 0 for a in rows)  # each on a cache line (streamed)
     if k * n >= C._ALIGN_FROM:  # large: the block starts on a huge page
         assert rows[0].ctypes.data % C.HUGE_PAGE == 0
-    elif rows:  # small: no padding (the block is the rows)
+    elif rows:  # small: one block, the rows and a cache line of padding
         assert all(r.base is rows[0].base for r in rows)
-        assert rows[0].base is None or rows[0].base.size == k * n
+        assert rows[0].base.size == k * (-(-n // 8) * 8) + 8
 
 
 def _plan(scene: Scene):
@@ -81,12 +83,37 @@ def test_the_schedule_runs_each_step_after_its_inputs_and_keeps_fewer_values_ali
     assert _live_area(sched) < _live_area(order)
 
 
-def _source(wanted, scene=None, serial=frozenset()):
+def _source(wanted, scene=None, serial=frozenset(), far=False):
     req = prepare(EXAMPLE, np.zeros(4), list(wanted), scene or Scene())
     ns = req.model.seed(req.mechanism, np.zeros(4), req.scene)
     order = req.model.plan(req.wanted, frozenset(ns), req.model.zero_seeds(ns))
     scalars = tuple(sorted(k for k in ns if np.ndim(ns[k]) == 0))
-    return K.kernel_source(req.model, order, req.wanted, scalars, ("ATH2",), (), serial)[0]
+    return K.kernel_source(req.model, order, req.wanted, scalars, ("ATH2",), (), serial,
+                           far)[0]
+
+
+@pytest.mark.parametrize("wanted", [engine.RESULTS, engine.KINEMATIC_OUTPUTS])
+def test_the_streamed_form_stores_each_output_once_straight_from_one_loop(wanted):
+    """kernel_source's ``far``: one loop over the positions, each output stored once by
+    the streamed store, the count of positions that cannot assemble kept to the first
+    ``_count``, a fence after the loop; no staging, whatever the outputs' number."""
+    src = _source(wanted, far=True)
+    assert src.startswith("def kernel(_n, _count, ")
+    assert "for i in range(_n):" in src and "_blk" not in src and "_copy_out" not in src
+    for j in range(len(wanted)):
+        assert src.count(f"_put(_out{j}, i, ") == 1
+        assert f"_out{j}[" not in src
+    assert src.count("_bad += _select(_ok, 0, _select(i < _count, 1, 0))") == 1
+    assert src.rstrip().splitlines()[-2:] == ["    _fence()", "    return _bad"]
+
+
+def test_a_plan_of_several_loops_has_no_streamed_form():
+    """Pin friction runs in several loops over a chunk: ``far`` gives the chunked kernel
+    (whose copy of each chunk streams), the very text of the plain request."""
+    scene = Scene(friction=engine.PinFriction(0.1, 0.2))
+    wanted = ["TORQ", "TORQ_FRICTION"]
+    assert _source(wanted, scene, far=True) == _source(wanted, scene)
+    assert "_put(" not in _source(wanted, scene, far=True)
 
 
 def test_many_outputs_are_staged_in_chunks_and_few_written_straight():

@@ -8,6 +8,15 @@ Out: the wanted outputs, in the units ``analyze`` gives, written straight into t
      returned (the caller's with ``out=``, else fresh ones, the rows of one block aligned
      to a huge page: no table, no copy), and how many positions cannot assemble.
 
+A large request (``kernel.STREAM_FROM`` values or more, on x86-64) whose plan runs in one
+loop takes the streamed kernel: its stores go around the caches as whole vectors, which
+must start on their own size's boundary.  :func:`_streamed` keeps that promise: the
+positions from every output's 64-byte boundary in runs of a multiple of ``RUN`` (so that
+the vector loop's scalar remainder, whose stores would break it, never runs), the head
+before that boundary and the tail through aligned scratch rows, copied back.  Outputs on
+different offsets from a cache line, or arrays that overlap, take the plain kernel.  The
+bits are the plain kernel's (tests/test_compiled_streaming.py).
+
 What is compiled is the model's own plan: the steps the numpy engine would run for
 this request, each step's own code compiled for one position
 (:mod:`sielaff.engine.kernel`).  There is no second list of steps, seeds or effects: an
@@ -43,6 +52,7 @@ the first call of a request compiles its kernel (seconds to tens of seconds).
 from __future__ import annotations
 
 import math
+import platform
 from typing import Any
 
 import numpy as np
@@ -99,7 +109,8 @@ _ALIGN_FROM = 8 * HUGE_PAGE // 8
 
 
 def _fresh(k: int, n: int) -> list[np.ndarray]:
-    """``k`` new arrays of ``n`` floats: rows of one block aligned to a huge page.
+    """``k`` new arrays of ``n`` floats: rows of one block aligned to a huge page, each
+    row starting on a 64-byte boundary (a cache line: the streamed kernel's stores).
 
     Writing a fresh array first costs the kernel's page faults (zeroing the pages), more
     than the kernel's arithmetic on 4 KiB pages; one aligned block halves that here
@@ -107,17 +118,71 @@ def _fresh(k: int, n: int) -> list[np.ndarray]:
     """
     if k == 0:
         return []
-    pad = HUGE_PAGE // 8 if k * n >= _ALIGN_FROM else 0
-    raw = np.empty(k * n + pad)
-    start = (-raw.ctypes.data % HUGE_PAGE) // 8 if pad else 0
-    return list(raw[start:start + k * n].reshape(k, n))
+    pad = HUGE_PAGE // 8 if k * n >= _ALIGN_FROM else 8
+    row = -(-n // 8) * 8
+    raw = np.empty(k * row + pad)
+    start = (-raw.ctypes.data % (HUGE_PAGE if pad > 8 else 64)) // 8
+    return [raw[start + j * row:start + j * row + n] for j in range(k)]
+
+
+#: Whether large requests take the streamed kernel (kernel.py's ``far`` form); off, the
+#: chunked kernel's copy streams instead (benchmarks/engine.py measures both).
+STREAMED = True
+#: A streamed kernel runs over a multiple of this many positions, a multiple of any
+#: step of its vector loop (at most 8 doubles a vector, 8 vectors interleaved), so that
+#: its scalar remainder, whose stores would break their alignment promise, never runs.
+RUN = 512
+
+
+def _ranges(arrays: list[np.ndarray]) -> list[tuple[int, int]]:
+    return sorted((a.ctypes.data, a.ctypes.data + a.nbytes) for a in arrays if a.size)
+
+
+def stream_start(outs: list[np.ndarray], ins: list[np.ndarray]) -> int | None:
+    """The positions before every output's next boundary of ``STREAM_LINE`` bytes (the
+    same for all), or None where the streamed kernel cannot write them: an output not
+    aligned to 8 bytes, or on another offset than the others; arrays that overlap (the
+    loop's check for overlap would fall back to its scalar form, which breaks the
+    promise)."""
+    from sielaff.engine.kernel_math import STREAM_LINE
+
+    offs = {o.ctypes.data % STREAM_LINE for o in outs}
+    if len(offs) != 1 or outs[0].ctypes.data % 8:
+        return None
+    spans = _ranges(list(outs) + list(ins))
+    if any(a[1] > b[0] for a, b in zip(spans, spans[1:])):
+        return None
+    return (-outs[0].ctypes.data % STREAM_LINE) // 8
+
+
+def _streamed(kernel: Any, n: int, head: int, values: list[float],
+              ins: list[np.ndarray], outs: list[np.ndarray]) -> int:
+    """The streamed kernel over ``n`` positions (kernel.py's ``far`` form), its promise
+    kept: the positions from ``head`` (every output on its boundary there) in one run of
+    a multiple of RUN; the rest (the head, the tail) gathered into aligned scratch rows,
+    padded to RUN positions with copies of the last, and run the same way, only they
+    counted.  Returns how many positions cannot assemble."""
+    body = (n - head) // RUN * RUN if n > head else 0
+    bad = 0
+    if body:
+        bad += kernel(body, body, *values, *(x[head:head + body] for x in ins),
+                      *(o[head:head + body] for o in outs))
+    edge = np.r_[0:min(head, n), head + body:n]
+    if edge.size:
+        m = -(-edge.size // RUN) * RUN
+        take = np.concatenate([edge, np.full(m - edge.size, edge[-1])])
+        rows = _fresh(len(outs), m)
+        bad += kernel(m, edge.size, *values, *(x[take] for x in ins), *rows)
+        for o, r in zip(outs, rows, strict=True):
+            o[edge] = r[:edge.size]
+    return int(bad)
 
 
 def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
         ) -> tuple[dict[str, np.ndarray], int | None, tuple[int, ...]]:
     """The request's outputs by the compiled kernel: ``({name: array}, not assembled,
     shape)``; ``out`` (flat or of the crank angles' shape) written in place."""
-    from sielaff.engine.kernel import Uncompilable, counts_assembly, kernel_for
+    from sielaff.engine.kernel import Uncompilable, counts_assembly, kernel_for, streamed
 
     model = req.model
     missing = [n for n in req.wanted if n in NOT_GIVEN]
@@ -183,9 +248,14 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
             leaves.append(tuple(names))
         structs.append((name, type(items[0]), not isinstance(v, list | tuple) or
                         hasattr(v, "_fields"), tuple(leaves)))
+    from sielaff.engine import kernel as _k
+
+    part = n // (1 if threads == 1 or n < 4096 * threads else threads)
+    far = STREAMED and platform.machine().lower() in ("x86_64", "amd64") and (
+        part * len(req.wanted) >= _k.STREAM_FROM)
     try:
         kernel = kernel_for(model, order, req.wanted, tuple(scalars), tuple(arrays),
-                            _effect_of(model), tuple(structs))
+                            _effect_of(model), tuple(structs), far)
     except ImportError:
         raise ImportError("backend='numba' needs numba, the fast extra: pip install "
                           "\"sielaff[fast]\" (or use backend='numpy')") from None
@@ -198,8 +268,20 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
         result[name] = given[name].reshape(-1) if name in given else next(fresh)
     outs = list(result.values())
     counts = counts_assembly(model, order)
+    call: Any = kernel
+    if streamed(kernel):
+        head = stream_start(outs, per_position)
+        if head is None:  # outputs the streamed loop cannot write: the plain one
+            call = kernel_for(model, order, req.wanted, tuple(scalars), tuple(arrays),
+                              _effect_of(model), tuple(structs))
+        else:
+            def call(m: int, *args: Any) -> int:
+                k = len(values)
+                ins, os = args[k:k + len(per_position)], args[k + len(per_position):]
+                return _streamed(kernel, m, stream_start(list(os), []) or 0, list(values),
+                                 list(ins), list(os))
     if threads == 1 or n < 4096 * threads:
-        bad = kernel(n, *values, *per_position, *outs) if n else 0
+        bad = call(n, *values, *per_position, *outs) if n else 0
     else:
         from concurrent.futures import ThreadPoolExecutor
 
@@ -207,8 +289,8 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
 
         def part(k: int) -> int:
             i, j = cuts[k], cuts[k + 1]
-            return int(kernel(j - i, *values, *(x[i:j] for x in per_position),
-                              *(o[i:j] for o in outs)))
+            return int(call(j - i, *values, *(x[i:j] for x in per_position),
+                            *(o[i:j] for o in outs)))
 
         with ThreadPoolExecutor(threads) as pool:
             bad = sum(pool.map(part, range(threads)))

@@ -27,7 +27,12 @@ time after each chunk: a store to each of 71 arrays at each position is 71 strea
 writes at once, more than a core's prefetchers follow, and every line then waits for its
 read-for-ownership (docs/performance.md measures both).  With ``STREAM_FROM`` values
 or more in all the copy uses non-temporal stores, which write a line without reading it
-first (half the memory traffic).  A step that calls array code
+first (half the memory traffic).  A request that large whose plan runs in one loop takes
+the streamed form instead (``far``, on x86-64): no staging, each output stored straight
+from the loop by non-temporal stores of whole vectors, which need an alignment that the
+loop promises LLVM and the caller keeps (:func:`sielaff.engine.compiled._streamed`:
+runs of whole vectors from each output's 64-byte boundary, the head and tail through
+aligned scratch rows).  A step that calls array code
 (pin friction's solve where the law need not contract) cannot be vectorised: it runs in
 a loop over the chunk of its own, between the loops of the steps before and after it,
 which stay vectorised.  An iterated step (:mod:`sielaff.engine.iterate`: pin friction's
@@ -50,7 +55,7 @@ from typing import Any, Literal
 
 from sielaff.engine.registry import Model, Plan, Step
 
-__all__ = ["Uncompilable", "counts_assembly", "kernel_for", "kernel_source"]
+__all__ = ["Uncompilable", "counts_assembly", "kernel_for", "kernel_source", "streamed"]
 
 _LOCK = threading.RLock()
 _FORMS: dict[Any, Any] = {}
@@ -149,12 +154,17 @@ Struct = tuple[str, type, bool, tuple[tuple[str, ...], ...]]
 
 def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                   scalars: tuple[str, ...], arrays: tuple[str, ...],
-                  structs: tuple[Struct, ...] = (), serial: frozenset[str] = frozenset()
-                  ) -> tuple[str, list[Step]]:
+                  structs: tuple[Struct, ...] = (), serial: frozenset[str] = frozenset(),
+                  far: bool = False) -> tuple[str, list[Step]]:
     """The loop's source for this plan, and the steps it calls (``_s0``, ``_s1``, ...):
     ``kernel(n, <scalars>, <per-position arrays>, <one output array per wanted name>)``
-    returns how many positions cannot assemble.  A record seed (``structs``) is built
-    from its leaves at each position (``_r0``, ... its type).  The steps named in
+    returns how many positions cannot assemble.  ``far``, for a plan that runs in one
+    loop: the streamed form, ``kernel(n, count, ...)``, whose loop stores each output by
+    a non-temporal store that promises its alignment (kernel_math._streamed_store; the
+    caller keeps the promise: compiled._streamed) and counts only the first ``count``
+    positions; a plan of several loops has no such form (its chunks' copy streams).  A
+    record seed (``structs``) is built from its leaves at each position (``_r0``, ...
+    its type).  The steps named in
     ``serial`` (array code, which LLVM cannot vectorise) run in a loop over each chunk
     of their own, an iterated step in passes over it (``_passes``), the steps before
     and after them in others, the values a later loop takes from an earlier one handed
@@ -186,7 +196,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
             kinds += [kind] * (at == len(kinds))
         level.update(dict.fromkeys(st.provides, at))
     n_phases = len(kinds)
-    staged = n_phases > 1 or len(wanted) > STAGE_FROM
+    far = far and n_phases == 1
+    staged = not far and (n_phases > 1 or len(wanted) > STAGE_FROM)
     target, index = ("_b", "_j") if staged else ("_out", "i")
     reads = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
     for j, (name, _, single, leaves) in enumerate(structs):
@@ -246,7 +257,9 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                     continue
                 take(model.counts)
                 value = f"_select(_ok, {value}, _NAN)"
-            body.append(f"{target}{slot.pop(name)}[{index}] = {value}")
+            j = slot.pop(name)
+            body.append(f"_put(_out{j}, i, {value})" if far else
+                        f"{target}{j}[{index}] = {value}")
 
     store([w for w in wanted if w in seeded])
     for st, skipped, _ in sched:
@@ -276,11 +289,12 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
             counted = True
             c = v(model.counts)
             body.append(f"_ok = {c} == {c}")
-            body.append("_bad += _select(_ok, 0, 1)")
+            body.append("_bad += _select(_ok, 0, _select(i < _count, 1, 0))" if far else
+                        "_bad += _select(_ok, 0, 1)")
             store(waiting)
         store(st.provides)
-    params = ["_n"] + [v(s) for s in scalars] + [f"_in{j}" for j in range(len(arrays))] + [
-        f"_out{j}" for j in range(len(wanted))]
+    params = ["_n", "_count"][:1 + far] + [v(s) for s in scalars] + [
+        f"_in{j}" for j in range(len(arrays))] + [f"_out{j}" for j in range(len(wanted))]
     starts: list[list[str]] = []
     for k, lines in enumerate(phases):  # each phase starts from the inputs and what it is handed
         got = [handed(n) for n in taken[k]]
@@ -291,6 +305,7 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
     row = CHUNK + STAGGER
     if not staged:
         loop = ["    for i in range(_n):", *("        " + line for line in phases[0])]
+        loop += ["    _fence()"] * far
     else:  # chunks: the outputs staged in _blk's rows, then copied out one by one
         loop = [f"    _far = _n * {len(wanted)} >= {STREAM_FROM}",
                 f"    _blk = _np.empty({len(wanted) * row})",
@@ -485,11 +500,12 @@ _LLVM_OPTION = threading.Lock()
 
 def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tuple[str, ...],
                arrays: tuple[str, ...], effect_of: Mapping[str, str],
-               structs: tuple[Struct, ...] = ()) -> Any:
-    """The compiled kernel of ``kernel_source`` (cached per model, plan and seeds'
-    shapes).  Uncompilable (one line: the step, its effect) if a step has no
-    one-position form."""
-    key = (model.name, id(model), order, wanted, scalars, arrays, structs)
+               structs: tuple[Struct, ...] = (), far: bool = False) -> Any:
+    """The compiled kernel of ``kernel_source`` (cached per model, plan, seeds' shapes and
+    ``far``).  Uncompilable (one line: the step, its effect) if a step has no
+    one-position form.  ``far`` asks for the streamed form; a plan without one gives the
+    plain kernel (:func:`streamed` tells which)."""
+    key = (model.name, id(model), order, wanted, scalars, arrays, structs, far)
     with _LOCK:
         if key in _KERNELS:
             return _KERNELS[key]
@@ -506,13 +522,19 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
             raise
         serial = frozenset(st.name for st, skipped, _ in order
                            if not skipped and _code(st) in _ARRAY_CODE)
-        src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial)
+        src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial,
+                                    far)
+        if far and "_count" not in src:  # several loops: no streamed form
+            _KERNELS[key] = kernel_for(model, order, wanted, scalars, arrays, effect_of,
+                                       structs)
+            return _KERNELS[key]
         glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
-        from sielaff.engine.kernel_math import _intrinsics, _streaming
+        from sielaff.engine.kernel_math import _intrinsics, _streamed_store, _streaming
 
         glob["_select"] = _intrinsics()[0]
         glob["_copy_out"], glob["_fence"] = _streaming()
+        glob["_put"] = _streamed_store()
         glob.update({f"_s{j}": forms[_code(st)] for j, st in enumerate(called)})
         # what the text does not show: the derived steps' code, the records' types
         salt = "".join(getattr(_code(st), "__sielaff_source__", st.name) for st in called)
@@ -542,14 +564,25 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
             llvm.set_option("", "-vectorize-memory-check-threshold=100000")
             llvm.set_option("", "-unroll-threshold=100000")
             try:
-                kernel.compile((numba.types.int64,) + (f64,) * len(scalars)
+                kernel.compile((numba.types.int64,) * (1 + far) + (f64,) * len(scalars)
                                + (ro,) * len(arrays) + (arr,) * len(wanted))
             finally:
                 llvm.set_option("", "-vectorize-memory-check-threshold=128")
                 llvm.set_option("", "-unroll-threshold=300")
         kernel.disable_compile()
+        if far:
+            _STREAMED.add(kernel)
         _KERNELS[key] = kernel
         return kernel
+
+
+_STREAMED: set[Any] = set()
+
+
+def streamed(kernel: Any) -> bool:
+    """Whether ``kernel`` is a streamed form (``kernel(n, count, ...)``: kernel_source's
+    ``far``), which only compiled._streamed may call."""
+    return kernel in _STREAMED
 
 
 def _seed_types(scalars: tuple[str, ...], arrays: tuple[str, ...],

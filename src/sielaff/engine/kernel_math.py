@@ -205,6 +205,57 @@ def _streaming():
     return copy_out, fence
 
 
+#: The alignment, in bytes, that a streamed kernel's stores promise (kernel.py's ``far``
+#: loop): a vector of four doubles; and the boundary its outputs start on (compiled.py's
+#: runs): a cache line, so that each line is written whole by consecutive stores.
+STREAM_ALIGN, STREAM_LINE = 32, 64
+
+
+def _streamed_store():
+    """``_put(dst, i, v)``: ``dst[i] = v`` by a non-temporal store that promises LLVM
+    ``STREAM_ALIGN``-byte alignment, so that the vectorised loop stores whole vectors
+    around the caches (VMOVNTPD; without the promise LLVM splits a vector's non-temporal
+    store into scalar ones, or does not vectorise).  The promise must hold at every store
+    that runs: the caller starts each output on such a boundary and runs the loop for a
+    multiple of ``compiled.RUN`` positions, a multiple of any vector step, so that the
+    loop's scalar remainder never runs (compiled._streamed).  In the loop as written
+    the promise is false at a position off a boundary; LLVM widens the store before
+    anything could use that, and only the widened stores run (their bits and the packed
+    stores in the assembly: tests/test_compiled_streaming.py).  No bounds check.  On a CPU
+    other than x86-64: a plain store, no promise."""
+    import platform
+
+    import llvmlite.ir as ir
+    from numba.core import types
+    from numba.extending import intrinsic
+
+    x86 = platform.machine().lower() in ("x86_64", "amd64")
+
+    @intrinsic
+    def put(typingctx, dst, i, v):
+        if not (isinstance(dst, types.Array) and dst.ndim == 1 and dst.dtype == types.float64
+                and isinstance(i, types.Integer) and isinstance(v, types.Float)):
+            return None
+
+        def codegen(context, builder, sig, args):
+            d, k, x = args
+            da = context.make_array(sig.args[0])(context, builder, d)
+            k = context.cast(builder, k, sig.args[1], types.intp)
+            x = context.cast(builder, x, sig.args[2], types.float64)
+            to = builder.gep(da.data, [k], inbounds=True)
+            if x86:
+                st = builder.store(x, to, align=STREAM_ALIGN)
+                st.set_metadata("nontemporal",
+                                builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)]))
+            else:
+                builder.store(x, to, align=8)
+            return context.get_dummy_value()
+
+        return types.void(dst, i, v), codegen
+
+    return put
+
+
 # Python stand-ins for the intrinsics (the transcendentals run as plain Python in the tests)
 def _fma(x, y, z):
     """x y + z rounded once (the kernel's ``llvm.fma``), exactly, in Python."""
