@@ -49,13 +49,13 @@ def spied(monkeypatch):
     return calls
 
 
-def _analyze(m, th, out=None, threads=1, streamed=True, scene=None, wanted=WANTED):
+def _analyze(m, th, out=None, threads=1, streamed=True):
     """(outputs, not assembled) of the compiled backend, streamed or the chunked kernel."""
     saved, C.STREAMED = C.STREAMED, streamed
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", engine.AssemblyWarning)
-            req = prepare(m, th, list(wanted), scene or Scene())
+            req = prepare(m, th, list(WANTED), Scene())
             got, bad, _ = C.run(req, out, threads=threads)
     finally:
         C.STREAMED = saved
@@ -110,31 +110,6 @@ def test_fresh_results_and_two_threads_are_streamed_too(spied):
     for name in WANTED:
         np.testing.assert_array_equal(fresh[name], ref[name])
         np.testing.assert_array_equal(two[name], ref[name])
-
-
-@pytest.mark.slow  # the streamed friction kernel compiles in minutes
-def test_pin_friction_streams_from_its_vectorised_loops(spied):
-    """A plan of several loops a chunk (pin friction's passes and its serial solve): the
-    chunked kernel's bits and count, streamed at two offsets (kernel.CHUNK divides RUN,
-    so that each chunk is whole).  The scene and outputs of test_compiled_friction.py's
-    near-toggle test, whose chunked kernel the kernel cache then holds."""
-    from test_compiled_friction import NAMES
-
-    assert C.RUN % K.CHUNK == 0
-    scene = Scene(friction=engine.PinFriction(0.3, 1.0), tex=0.5)
-    wanted = tuple(NAMES)
-    n = 3 * C.RUN + 37
-    th = np.linspace(-30.0, 400.0, n)
-    th[[1, n // 2]] = np.nan
-    ref, ref_bad = _analyze(OPEN_HALF, th, streamed=False, scene=scene, wanted=wanted)
-    assert 0 < ref_bad < n and not spied
-    for offset in (0, 5):
-        out = {name: _views(n, offset)["TORQ"] for name in wanted}
-        del spied[:]
-        got, bad = _analyze(OPEN_HALF, th, out=out, scene=scene, wanted=wanted)
-        assert len(spied) == 2 and bad == ref_bad  # counted: streamed, a run and the edges
-        for name in wanted:
-            np.testing.assert_array_equal(out[name], ref[name], err_msg=name)
 
 
 def test_outputs_it_cannot_stream_take_the_plain_kernel(spied):

@@ -158,11 +158,11 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                   far: bool = False) -> tuple[str, list[Step]]:
     """The loop's source for this plan, and the steps it calls (``_s0``, ``_s1``, ...):
     ``kernel(n, <scalars>, <per-position arrays>, <one output array per wanted name>)``
-    returns how many positions cannot assemble.  ``far``: the streamed form,
-    ``kernel(n, count, ...)``, whose vectorised loops store each output by a
-    non-temporal store that promises its alignment (kernel_math._streamed_store; the
-    caller keeps the promise: compiled._streamed; a serial loop's stores are plain), with
-    no staging, and which counts only the first ``count`` positions.  A
+    returns how many positions cannot assemble.  ``far``, for a plan that runs in one
+    loop: the streamed form, ``kernel(n, count, ...)``, whose loop stores each output by
+    a non-temporal store that promises its alignment (kernel_math._streamed_store; the
+    caller keeps the promise: compiled._streamed) and counts only the first ``count``
+    positions; a plan of several loops has no such form (its chunks' copy streams).  A
     record seed (``structs``) is built from its leaves at each position (``_r0``, ...
     its type).  The steps named in
     ``serial`` (array code, which LLVM cannot vectorise) run in a loop over each chunk
@@ -196,8 +196,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
             kinds += [kind] * (at == len(kinds))
         level.update(dict.fromkeys(st.provides, at))
     n_phases = len(kinds)
-    chunked = n_phases > 1 or (not far and len(wanted) > STAGE_FROM)
-    staged = chunked and not far  # outputs go to a chunk's rows first, then are copied
+    far = far and n_phases == 1
+    staged = not far and (n_phases > 1 or len(wanted) > STAGE_FROM)
     target, index = ("_b", "_j") if staged else ("_out", "i")
     reads = [f"{v(a)} = _in{j}[i]" for j, a in enumerate(arrays)]
     for j, (name, _, single, leaves) in enumerate(structs):
@@ -258,8 +258,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 take(model.counts)
                 value = f"_select(_ok, {value}, _NAN)"
             j = slot.pop(name)
-            body.append(f"_put(_out{j}, i, {value})" if far and kinds[phase] != "serial"
-                        else f"{target}{j}[{index}] = {value}")
+            body.append(f"_put(_out{j}, i, {value})" if far else
+                        f"{target}{j}[{index}] = {value}")
 
     store([w for w in wanted if w in seeded])
     for st, skipped, _ in sched:
@@ -303,15 +303,14 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
         starts.append(reads + zeros + got)
         lines[:0] = starts[k]
     row = CHUNK + STAGGER
-    if not chunked:
+    if not staged:
         loop = ["    for i in range(_n):", *("        " + line for line in phases[0])]
         loop += ["    _fence()"] * far
-    else:  # chunks: staged, the outputs in _blk's rows, then copied out one by one
+    else:  # chunks: the outputs staged in _blk's rows, then copied out one by one
         loop = [f"    _far = _n * {len(wanted)} >= {STREAM_FROM}",
                 f"    _blk = _np.empty({len(wanted) * row})",
-                *(f"    _b{j} = _blk[{j * row}:{j * row + CHUNK}]"
-                  for j in range(len(wanted)))] if staged else []
-        loop += [f"    _xblk = _np.empty({len(crossing) * row})",
+                *(f"    _b{j} = _blk[{j * row}:{j * row + CHUNK}]" for j in range(len(wanted))),
+                f"    _xblk = _np.empty({len(crossing) * row})",
                 *(f"    _x{j} = _xblk[{j * row}:{j * row + CHUNK}]"
                   for j in range(len(crossing))),
                 f"    for _c in range(0, _n, {CHUNK}):",
@@ -321,12 +320,8 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 loop += _passes(*passes[k], starts[k], v, crossing)
             loop += ["        for _j in range(_m):", "            i = _c + _j",
                      *("            " + line for line in lines)]
-        if staged:
-            loop += [f"        _copy_out(_out{j}, _b{j}, _c, _m, _far)"
-                     for j in range(len(wanted))]
-            loop += ["    if _far:", "        _fence()"]
-        else:  # streamed from each phase's loop
-            loop += ["    _fence()"]
+        loop += [f"        _copy_out(_out{j}, _b{j}, _c, _m, _far)" for j in range(len(wanted))]
+        loop += ["    if _far:", "        _fence()"]
     src = "\n".join([f"def kernel({', '.join(params)}):", "    _bad = 0", *loop,
                      "    return _bad", ""])
     return src, called
@@ -508,8 +503,8 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
                structs: tuple[Struct, ...] = (), far: bool = False) -> Any:
     """The compiled kernel of ``kernel_source`` (cached per model, plan, seeds' shapes and
     ``far``).  Uncompilable (one line: the step, its effect) if a step has no
-    one-position form.  ``far``: the streamed form (:func:`streamed` tells which a
-    kernel is)."""
+    one-position form.  ``far`` asks for the streamed form; a plan without one gives the
+    plain kernel (:func:`streamed` tells which)."""
     key = (model.name, id(model), order, wanted, scalars, arrays, structs, far)
     with _LOCK:
         if key in _KERNELS:
@@ -529,6 +524,10 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
                            if not skipped and _code(st) in _ARRAY_CODE)
         src, called = kernel_source(model, order, wanted, scalars, arrays, structs, serial,
                                     far)
+        if far and "_count" not in src:  # several loops: no streamed form
+            _KERNELS[key] = kernel_for(model, order, wanted, scalars, arrays, effect_of,
+                                       structs)
+            return _KERNELS[key]
         glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
         from sielaff.engine.kernel_math import _intrinsics, _streamed_store, _streaming
