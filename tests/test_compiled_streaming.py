@@ -8,7 +8,6 @@ overlapping arrays)."""
 
 from __future__ import annotations
 
-import platform
 import re
 import warnings
 
@@ -19,11 +18,12 @@ from sielaff import engine
 from sielaff.engine import compiled as C
 from sielaff.engine import kernel as K
 from sielaff.engine.analysis import prepare
+from sielaff.engine.kernel_math import X86
 from sielaff.engine.scene import Scene
 from sielaff.mechanism import EXAMPLE, Mechanism
 
 pytest.importorskip("numba")
-if platform.machine().lower() not in ("x86_64", "amd64"):  # elsewhere: never streamed
+if not X86:  # elsewhere: never streamed
     pytest.skip("the streamed kernel is x86-64's", allow_module_level=True)
 
 WANTED = ["ATH3", "ATH4", "TH3D", "TH4D", "TORQ"]

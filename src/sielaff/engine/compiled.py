@@ -52,12 +52,11 @@ the first call of a request compiles its kernel (seconds to tens of seconds).
 from __future__ import annotations
 
 import math
-import platform
 from typing import Any
 
 import numpy as np
 
-from sielaff.engine.kernel_math import _BIG_ANGLE
+from sielaff.engine.kernel_math import _BIG_ANGLE, X86
 
 __all__ = ["available", "run"]
 
@@ -138,6 +137,13 @@ def _ranges(arrays: list[np.ndarray]) -> list[tuple[int, int]]:
     return sorted((a.ctypes.data, a.ctypes.data + a.nbytes) for a in arrays if a.size)
 
 
+def _head(out: np.ndarray) -> int:
+    """The positions of ``out`` before its next boundary of ``STREAM_LINE`` bytes."""
+    from sielaff.engine.kernel_math import STREAM_LINE
+
+    return (-out.ctypes.data % STREAM_LINE) // 8
+
+
 def stream_start(outs: list[np.ndarray], ins: list[np.ndarray]) -> int | None:
     """The positions before every output's next boundary of ``STREAM_LINE`` bytes (the
     same for all), or None where the streamed kernel cannot write them: an output not
@@ -152,7 +158,7 @@ def stream_start(outs: list[np.ndarray], ins: list[np.ndarray]) -> int | None:
     spans = _ranges(list(outs) + list(ins))
     if any(a[1] > b[0] for a, b in zip(spans, spans[1:])):
         return None
-    return (-outs[0].ctypes.data % STREAM_LINE) // 8
+    return _head(outs[0])
 
 
 def _streamed(kernel: Any, n: int, head: int, values: list[float],
@@ -250,9 +256,9 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
                         hasattr(v, "_fields"), tuple(leaves)))
     from sielaff.engine import kernel as _k
 
-    part = n // (1 if threads == 1 or n < 4096 * threads else threads)
-    far = STREAMED and platform.machine().lower() in ("x86_64", "amd64") and (
-        part * len(req.wanted) >= _k.STREAM_FROM)
+    split = threads > 1 and n >= 4096 * threads  # else one thread does it all
+    far = STREAMED and X86 and (n // (threads if split else 1) * len(req.wanted)
+                                >= _k.STREAM_FROM)
     try:
         kernel = kernel_for(model, order, req.wanted, tuple(scalars), tuple(arrays),
                             _effect_of(model), tuple(structs), far)
@@ -274,13 +280,12 @@ def run(req: Any, out: dict[str, np.ndarray] | None = None, threads: int = 1
         if head is None:  # outputs the streamed loop cannot write: the plain one
             call = kernel_for(model, order, req.wanted, tuple(scalars), tuple(arrays),
                               _effect_of(model), tuple(structs))
-        else:
+        else:  # a thread's part starts elsewhere: its head, the same for every output
             def call(m: int, *args: Any) -> int:
                 k = len(values)
                 ins, os = args[k:k + len(per_position)], args[k + len(per_position):]
-                return _streamed(kernel, m, stream_start(list(os), []) or 0, list(values),
-                                 list(ins), list(os))
-    if threads == 1 or n < 4096 * threads:
+                return _streamed(kernel, m, _head(os[0]), list(values), list(ins), list(os))
+    if not split:
         bad = call(n, *values, *per_position, *outs) if n else 0
     else:
         from concurrent.futures import ThreadPoolExecutor

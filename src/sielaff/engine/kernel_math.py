@@ -12,8 +12,13 @@ from __future__ import annotations
 
 import functools
 import math
+import platform
 
 import numpy as np
+
+#: Whether this CPU is x86-64: the one place that decides whether the kernels' stores
+#: stream (non-temporal stores, SFENCE); elsewhere they are plain.
+X86 = platform.machine().lower() in ("x86_64", "amd64")
 
 _BIG_ANGLE = 2.0**50  # past this, x - 360 floor(x / 360) is no longer exact
 
@@ -121,13 +126,9 @@ def _streaming():
     the non-temporal stores before whatever the kernel's caller does next, in any thread.
     The bytes are the same either way.  On a CPU other than x86-64: plain stores and no
     fence."""
-    import platform
-
     import llvmlite.ir as ir
     from numba.core import cgutils, types
     from numba.extending import intrinsic
-
-    x86 = platform.machine().lower() in ("x86_64", "amd64")
 
     def _nt_copy(builder, to, at, n):
         """n doubles from ``at`` to ``to`` by non-temporal stores: MOVNTI (eight bytes, any
@@ -181,7 +182,7 @@ def _streaming():
             to = cgutils.get_item_pointer(context, builder, sig.args[0], da, [c])
             at = cgutils.get_item_pointer(context, builder, sig.args[1], sa,
                                           [ir.Constant(n.type, 0)])
-            with builder.if_else(builder.and_(f, ir.Constant(ir.IntType(1), x86))) as (
+            with builder.if_else(builder.and_(f, ir.Constant(ir.IntType(1), X86))) as (
                     then, otherwise):
                 with then:
                     _nt_copy(builder, to, at, n)
@@ -194,7 +195,7 @@ def _streaming():
     @intrinsic
     def fence(typingctx):
         def codegen(context, builder, sig, args):
-            if x86:
+            if X86:
                 fn = cgutils.get_or_insert_function(
                     builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse.sfence")
                 builder.call(fn, [])
@@ -223,13 +224,9 @@ def _streamed_store():
     anything could use that, and only the widened stores run (their bits and the packed
     stores in the assembly: tests/test_compiled_streaming.py).  No bounds check.  On a CPU
     other than x86-64: a plain store, no promise."""
-    import platform
-
     import llvmlite.ir as ir
     from numba.core import types
     from numba.extending import intrinsic
-
-    x86 = platform.machine().lower() in ("x86_64", "amd64")
 
     @intrinsic
     def put(typingctx, dst, i, v):
@@ -243,7 +240,7 @@ def _streamed_store():
             k = context.cast(builder, k, sig.args[1], types.intp)
             x = context.cast(builder, x, sig.args[2], types.float64)
             to = builder.gep(da.data, [k], inbounds=True)
-            if x86:
+            if X86:
                 st = builder.store(x, to, align=STREAM_ALIGN)
                 st.set_metadata("nontemporal",
                                 builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)]))
