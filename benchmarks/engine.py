@@ -319,13 +319,25 @@ def compiled_section(args, m, ath2, gfortran) -> int:
                 compiled.STREAMED = True
         return run
 
+    def unkept(fn):
+        """fn with no block of dropped results kept (compiled.KEEP_BYTES = 0): each fresh
+        block new from the operating system."""
+        def run():
+            saved, compiled.KEEP_BYTES = compiled.KEEP_BYTES, 0
+            compiled.release()
+            try:
+                fn()
+            finally:
+                compiled.KEEP_BYTES = saved
+        return run
+
     def fresh_arrays(k):
         """What k fresh results cost without a kernel: the block the backend makes for them
-        (compiled._fresh: one block aligned to a huge page), each row written once."""
+        (compiled._fresh: one block aligned to a huge page), new, each row written once."""
         def make():
             for a in compiled._fresh(k, n):
                 a.fill(0.0)
-        return make
+        return unkept(make)
 
     def streamed_fill(k):
         """The kernel's copy-out with no arithmetic: k reused arrays written from a staged
@@ -379,6 +391,11 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         ("the same, fresh arrays", chunked(numba(results, False))),
         (f"`backend='numba'`, kinematics ({len(kin)} results), fresh arrays, plain stores "
          "(compiled.STREAMED off)", chunked(numba(kin, False))),
+        (f"`backend='numba'`, all {len(results)} results, fresh arrays, each block new "
+         "(compiled.KEEP_BYTES = 0: none kept of the dropped results)",
+         unkept(numba(results, False))),
+        (f"`backend='numba'`, kinematics ({len(kin)} results), fresh arrays, each block new",
+         unkept(numba(kin, False))),
     ]
     # friction, springs and dampers on: compiled, or refused (then only said)
     rubbing = Scene(friction=engine.PinFriction(0.1, 0.2), elements=effects.elements)
@@ -449,18 +466,23 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         *table(series), "",
         f"* All results into reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
         f"({goal(med[0], 6)}); fresh arrays **{med[1]:.2f}x** ({goal(med[1], 3.5)}).  "
-        f"The fresh call costs {cpu[1] - cpu[0]:.3f} s of CPU more than `out=`; making the "
-        f"block of {len(results)} fresh results and writing it once costs {cpu[8]:.3f} s "
-        "here (the kernel's first writes fault the block's pages in, which Linux zeroes).",
+        f"The fresh call costs {cpu[1] - cpu[0]:.3f} s of CPU more than `out=`: its block "
+        "is one the caller's dropped results left (compiled.KEEP_BYTES; each round drops "
+        "its results, as a loop over calls does).  With each block new from the operating "
+        f"system (KEEP_BYTES = 0, as any first call) {med[16]:.2f}x ({cpu[16]:.3f} s); "
+        f"making that block of {len(results)} fresh results and writing it once costs "
+        f"{cpu[8]:.3f} s here (the first writes fault the block's pages in, which Linux "
+        "zeroes).",
         f"* Kinematics, fresh arrays: **{med[2]:.2f}x gfortran** ({goal(med[2], 8)}); "
-        f"`out=` {med[3]:.2f}x; the block of {len(kin)} fresh results alone, made and "
-        f"written once, {cpu[12]:.3f} s against the fresh call's {cpu[2]:.3f} s.",
+        f"`out=` {med[3]:.2f}x; each block new {med[17]:.2f}x ({cpu[17]:.3f} s), the "
+        f"block of {len(kin)} fresh results alone, made new and written once, "
+        f"{cpu[12]:.3f} s.",
         f"* Crank acceleration, gravity, two loads, a spring and a damper: **{med[4]:.2f}x "
         f"gfortran** with `out=` ({goal(med[4], 3)}), {med[5]:.2f}x with fresh arrays; "
         f"the numpy engine on the same scene {med[11]:.2f}x.",
         (f"* Pin friction at the four pins (mu r = 0.02 in), a spring and a damper, `out=`: "
-         f"**{med[16]:.2f}x gfortran** ({goal(med[16], 3)}); the numpy engine on the same "
-         f"scene {med[17]:.2f}x.  The fixed point takes {passes:.2f} iterations a position "
+         f"**{med[18]:.2f}x gfortran** ({goal(med[18], 3)}); the numpy engine on the same "
+         f"scene {med[19]:.2f}x.  The fixed point takes {passes:.2f} iterations a position "
          "on average (FRICTION_ITERATIONS), run in the kernel as passes over each chunk "
          "(engine/iterate.py)." if friction == "compiled" else
          f"* Pin friction: {friction} (goal: compiled, >= 3x: not met)."),

@@ -1,6 +1,7 @@
 """How the compiled backend lays out its work (engine/compiled.py, engine/kernel.py),
 checked without numba: the fresh results as rows of one block aligned to a huge page,
-each row on a cache line,
+each row on a cache line, a large block kept when its rows are dropped and taken by the
+next call of its size (never while a view lives, never more than KEEP_BYTES),
 the kernel's order of the plan's steps (a schedule that keeps fewer values alive, each
 step after what it needs), its outputs staged in chunks when there are many, a serial
 step in a loop of its own and an iterated step in passes; with numba, the staged loop's
@@ -38,6 +39,109 @@ def test_fresh_results_are_separate_rows_of_one_aligned_block(k, n):
     elif rows:  # small: one block, the rows and a cache line of padding
         assert all(r.base is rows[0].base for r in rows)
         assert rows[0].base.size == k * (-(-n // 8) * 8) + 8
+
+
+@pytest.fixture
+def pool(monkeypatch):
+    """An empty pool of kept blocks, kept from 1,000 floats (small blocks, quick tests)."""
+    monkeypatch.setattr(C, "_ALIGN_FROM", 1000)
+    monkeypatch.setattr(C, "_idle", [])
+    return C._idle
+
+
+def test_a_dropped_block_is_kept_and_taken_by_the_next_call_of_its_size(pool):
+    rows = C._fresh(3, 700)
+    address, size = rows[0].ctypes.data, rows[0].base.base.raw.size
+    del rows
+    assert [b.size for b in pool] == [size]  # kept once the last row is dropped
+    again = C._fresh(3, 700)
+    assert again[0].ctypes.data == address and not pool  # taken
+    other = C._fresh(2, 700)  # another size: a new block
+    assert other[0].ctypes.data != address
+    C.release()
+    del again
+    assert len(pool) == 1
+    C.release()
+    assert not pool
+
+
+def test_a_block_is_not_reused_while_any_view_of_it_lives(pool):
+    rows = C._fresh(3, 700)
+    address = rows[0].ctypes.data
+    piece = rows[2][10:20]
+    piece[:] = 5.0
+    del rows
+    assert not pool  # the piece holds the block
+    again = C._fresh(3, 700)
+    assert again[0].ctypes.data != address
+    assert not any(np.shares_memory(piece, a) for a in again)
+    for a in again:
+        a.fill(-1.0)
+    assert (piece == 5.0).all()
+    del piece
+    assert len(pool) == 1
+
+
+def test_kept_blocks_stay_within_keep_bytes(pool, monkeypatch):
+    rows = [C._fresh(3, 700) for _ in range(5)]
+    one = rows[0][0].base.base.raw.nbytes
+    monkeypatch.setattr(C, "KEEP_BYTES", 2 * one + 1)
+    del rows
+    assert len(pool) == 2 and sum(b.nbytes for b in pool) <= C.KEEP_BYTES
+    monkeypatch.setattr(C, "KEEP_BYTES", 0)
+    C.release()
+    rows = C._fresh(3, 700)
+    del rows
+    assert not pool  # 0: none kept
+
+
+def test_blocks_dropped_and_taken_by_threads_are_never_shared(pool):
+    import threading
+
+    errors: list[str] = []
+    addresses: set[int] = set()
+
+    def work(k: int) -> None:
+        for i in range(200):
+            rows = C._fresh(3, 700)
+            addresses.add(rows[0].ctypes.data)
+            for j, a in enumerate(rows):
+                a.fill(k * 1000 + i * 3 + j)
+            for j, a in enumerate(rows):
+                if not (a == k * 1000 + i * 3 + j).all():
+                    errors.append(f"thread {k}, call {i}, row {j} overwritten")
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    assert len(addresses) < 100  # counted: of 800 calls' blocks, most were kept ones
+    assert sum(b.nbytes for b in pool) <= C.KEEP_BYTES
+
+
+def test_results_written_into_a_kept_block_are_every_position_written(pool, monkeypatch):
+    """A kept block holds the dropped results: every position of the next call's is the
+    kernel's, plain and streamed."""
+    pytest.importorskip("numba")
+    th = np.linspace(-30.0, 400.0, 3001)
+    wanted = ["ATH3", "TH4D", "TORQ"]
+    ref = engine.analyze(EXAMPLE, th, wanted)
+    for stream_from in (K.STREAM_FROM, 1000):
+        monkeypatch.setattr(K, "STREAM_FROM", stream_from)
+        C.release()
+        got = engine.analyze(EXAMPLE, th, wanted, backend="numba")
+        address = got["ATH3"].ctypes.data
+        for a in got.values():
+            a.fill(np.nan)
+        del got, a
+        got = engine.analyze(EXAMPLE, th, wanted, backend="numba")
+        assert got["ATH3"].ctypes.data == address  # counted: the kept block was taken
+        for name in wanted:
+            np.testing.assert_allclose(got[name], ref[name], rtol=1e-12, atol=1e-9,
+                                       err_msg=name)
+        del got
 
 
 def _plan(scene: Scene):

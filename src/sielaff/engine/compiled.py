@@ -6,7 +6,9 @@ In:  a checked request (:class:`sielaff.engine.analysis.Request`): one design (s
      optionally, the arrays to write into.
 Out: the wanted outputs, in the units ``analyze`` gives, written straight into the arrays
      returned (the caller's with ``out=``, else fresh ones, the rows of one block aligned
-     to a huge page: no table, no copy), and how many positions cannot assemble.
+     to a huge page: no table, no copy), and how many positions cannot assemble.  A large
+     block of fresh results is kept when the caller drops them all, for the next call's
+     (``KEEP_BYTES``, :func:`release`).
 
 A large request (``kernel.STREAM_FROM`` values or more, on x86-64) whose plan runs in one
 loop takes the streamed kernel: its stores go around the caches as whole vectors, which
@@ -52,13 +54,14 @@ the first call of a request compiles its kernel (seconds to tens of seconds).
 from __future__ import annotations
 
 import math
+import threading
 from typing import Any
 
 import numpy as np
 
 from sielaff.engine.kernel_math import _BIG_ANGLE, X86
 
-__all__ = ["available", "run"]
+__all__ = ["available", "release", "run"]
 
 #: Outputs the kernel does not write: masks (the count is ``not_assembled``).
 NOT_GIVEN = ("ASSEMBLED",)
@@ -107,21 +110,80 @@ HUGE_PAGE = 1 << 21
 _ALIGN_FROM = 8 * HUGE_PAGE // 8
 
 
+#: The blocks of fresh results the caller has dropped are kept, idle, up to this many bytes
+#: in all, and the next call that needs a block of the same size takes one (0: none
+#: kept).  A block new from the operating system costs its page faults (Linux zeroes each
+#: page on its first write), as much as the kernel's arithmetic (docs/performance.md);
+#: one kept costs nothing more to write.  :func:`release` frees the kept ones.
+KEEP_BYTES = 1 << 30
+_idle: list[np.ndarray] = []
+_idle_lock = threading.Lock()
+
+
+class _Lease:
+    """A block lent to the caller's fresh results: numpy's base of the array their rows
+    are views of, so it lives as long as the last of them, and then the block is kept."""
+
+    __slots__ = ("raw", "__array_interface__")
+
+    def __init__(self, raw: np.ndarray) -> None:
+        self.raw = raw
+        self.__array_interface__ = raw.__array_interface__
+
+    def __del__(self) -> None:
+        try:
+            _keep(self.raw)
+        except Exception:  # at interpreter exit the module's globals may be gone
+            pass
+
+
+def _keep(raw: np.ndarray) -> None:
+    """Keep a dropped block, the oldest freed while the kept ones exceed KEEP_BYTES.  Runs
+    wherever the last row dies, so it never waits on the lock: if another caller (or this
+    thread, in the middle of taking a block) holds it, the block is freed instead."""
+    if raw.nbytes > KEEP_BYTES or not _idle_lock.acquire(blocking=False):
+        return
+    try:
+        _idle.append(raw)
+        while sum(b.nbytes for b in _idle) > KEEP_BYTES:
+            del _idle[0]
+    finally:
+        _idle_lock.release()
+
+
+def _block(size: int) -> np.ndarray:
+    """An array of ``size`` floats: a kept block of that size if there is one, else new."""
+    with _idle_lock:
+        for i, b in enumerate(_idle):
+            if b.size == size:
+                return _idle.pop(i)
+    return np.empty(size)
+
+
+def release() -> None:
+    """Free the kept blocks of dropped fresh results (see KEEP_BYTES)."""
+    with _idle_lock:
+        _idle.clear()
+
+
 def _fresh(k: int, n: int) -> list[np.ndarray]:
     """``k`` new arrays of ``n`` floats: rows of one block aligned to a huge page, each
     row starting on a 64-byte boundary (a cache line: the streamed kernel's stores).
 
     Writing a fresh array first costs the kernel's page faults (zeroing the pages), more
     than the kernel's arithmetic on 4 KiB pages; one aligned block halves that here
-    (docs/performance.md).  The rows are views: the block is freed with the last of them.
+    (docs/performance.md), and a large block the caller's earlier results left (KEEP_BYTES)
+    avoids it.  The rows are views: the block is freed, or kept, with the last of them.
     """
     if k == 0:
         return []
-    pad = HUGE_PAGE // 8 if k * n >= _ALIGN_FROM else 8
+    big = k * n >= _ALIGN_FROM
+    pad = HUGE_PAGE // 8 if big else 8
     row = -(-n // 8) * 8
-    raw = np.empty(k * row + pad)
-    start = (-raw.ctypes.data % (HUGE_PAGE if pad > 8 else 64)) // 8
-    return [raw[start + j * row:start + j * row + n] for j in range(k)]
+    raw = _block(k * row + pad) if big else np.empty(k * row + pad)
+    start = (-raw.ctypes.data % (HUGE_PAGE if big else 64)) // 8
+    base = np.asarray(_Lease(raw)) if big else raw
+    return [base[start + j * row:start + j * row + n] for j in range(k)]
 
 
 #: Whether large requests take the streamed kernel (kernel.py's ``far`` form); off, the
