@@ -331,6 +331,18 @@ def compiled_section(args, m, ath2, gfortran) -> int:
                 compiled.KEEP_BYTES = saved
         return run
 
+    def uncrowded(fn):
+        """fn with the streamed kernel taken however crowded the outputs' offsets."""
+        def run():
+            saved, compiled.CROWD = compiled.CROWD, 1 << 30
+            try:
+                fn()
+            finally:
+                compiled.CROWD = saved
+        return run
+
+    spread = dict(zip(results, compiled._fresh(len(results), n)))
+
     def fresh_arrays(k):
         """What k fresh results cost without a kernel: the block the backend makes for them
         (compiled._fresh: one block aligned to a huge page), new, each row written once."""
@@ -396,6 +408,12 @@ def compiled_section(args, m, ath2, gfortran) -> int:
          unkept(numba(results, False))),
         (f"`backend='numba'`, kinematics ({len(kin)} results), fresh arrays, each block new",
          unkept(numba(kin, False))),
+        (f"`backend='numba'`, all {len(results)} results into reused arrays, streamed "
+         "whatever their offsets from a 4 KiB page (compiled.CROWD without limit)",
+         uncrowded(numba(results))),
+        (f"`backend='numba'`, all {len(results)} results into reused arrays on spread "
+         "offsets from a 4 KiB page (the rows of one block, as fresh results are), `out=`",
+         lambda: engine.analyze(m, ath2, out=spread, backend="numba")),
     ]
     # friction, springs and dampers on: compiled, or refused (then only said)
     rubbing = Scene(friction=engine.PinFriction(0.1, 0.2), elements=effects.elements)
@@ -443,7 +461,25 @@ def compiled_section(args, m, ath2, gfortran) -> int:
     med = [statistics.median(x.ratio("cpu")) for x in series]
     wall = [statistics.median(x.ratio("wall")) for x in series]
     cpu = [statistics.median(x.cpu) for x in series]
+    from collections import Counter
+
+    crowd = Counter(outs[k].ctypes.data % 4096 for k in results).most_common(1)[0][1]
+    if compiled.stream_start([outs[k] for k in results], [ath2]) is not None:
+        kernel_used = "the streamed kernel ran"
+    else:
+        kernel_used = (f"the chunked kernel ran (more than compiled.CROWD = {compiled.CROWD} "
+                       "on one offset and vector stores narrower than a cache line, "
+                       "kernel_math.line_stores); streamed anyway "
+                       f"{cpu[18]:.3f} s ({med[18]:.2f}x); the same kernel into the rows of "
+                       f"one block, on spread offsets, {cpu[19]:.3f} s ({med[19]:.2f}x)")
     import numba as nb
+
+    from sielaff.engine.kernel_math import line_stores
+
+    def llvm_cpu() -> str:
+        import llvmlite.binding as llvm
+
+        return nb.config.CPU_NAME or llvm.get_host_cpu_name()
 
     def goal(x: float, g: float) -> str:
         return f"goal >= {g:g}x: {'met' if x >= g else 'not met'}"
@@ -451,7 +487,8 @@ def compiled_section(args, m, ath2, gfortran) -> int:
     lines = [
         COMPILED_HEADING, "",
         f"Measured by `python benchmarks/engine.py --section compiled` on {machine()}; "
-        f"numba {nb.__version__}.", "",
+        f"numba {nb.__version__}, compiling for LLVM's CPU {llvm_cpu()} (vector stores of "
+        f"a whole cache line: {'yes' if line_stores() else 'no'}).", "",
         f"`analyze(..., backend='numba')` on the report's example at {n:,} crank angles "
         "(the deck of the Engine section): the kernel generated from the four-bar model's "
         "own plan (engine/kernel.py).  The same gfortran -O2 reference runs beside each "
@@ -466,6 +503,8 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         *table(series), "",
         f"* All results into reused arrays: **{med[0]:.2f}x gfortran** in CPU time "
         f"({goal(med[0], 6)}); fresh arrays **{med[1]:.2f}x** ({goal(med[1], 3.5)}).  "
+        f"The reused arrays are separate np.empty arrays, {crowd} of them on one offset "
+        f"from a 4 KiB page: {kernel_used}.  "
         f"The fresh call costs {cpu[1] - cpu[0]:.3f} s of CPU more than `out=`: its block "
         "is one the caller's dropped results left (compiled.KEEP_BYTES; each round drops "
         "its results, as a loop over calls does).  With each block new from the operating "
@@ -481,8 +520,8 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"gfortran** with `out=` ({goal(med[4], 3)}), {med[5]:.2f}x with fresh arrays; "
         f"the numpy engine on the same scene {med[11]:.2f}x.",
         (f"* Pin friction at the four pins (mu r = 0.02 in), a spring and a damper, `out=`: "
-         f"**{med[18]:.2f}x gfortran** ({goal(med[18], 3)}); the numpy engine on the same "
-         f"scene {med[19]:.2f}x.  The fixed point takes {passes:.2f} iterations a position "
+         f"**{med[20]:.2f}x gfortran** ({goal(med[20], 3)}); the numpy engine on the same "
+         f"scene {med[21]:.2f}x.  The fixed point takes {passes:.2f} iterations a position "
          "on average (FRICTION_ITERATIONS), run in the kernel as passes over each chunk "
          "(engine/iterate.py)." if friction == "compiled" else
          f"* Pin friction: {friction} (goal: compiled, >= 3x: not met)."),
@@ -493,7 +532,8 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"* From {K.STREAM_FROM:,} values (engine/kernel.py's STREAM_FROM) the loop stores "
         "each output by a non-temporal store of whole vectors on 64-byte boundaries (the "
         "streamed kernel, engine/compiled.py's runs): all results into reused arrays "
-        f"{cpu[0]:.3f} s, fresh {cpu[1]:.3f} s, kinematics fresh {cpu[2]:.3f} s; the chunked "
+        f"{cpu[18]:.3f} s (on one offset from a 4 KiB page; on spread offsets "
+        f"{cpu[19]:.3f} s), fresh {cpu[1]:.3f} s, kinematics fresh {cpu[2]:.3f} s; the chunked "
         f"kernel instead (its outputs staged in chunks of {K.CHUNK} positions, each "
         f"chunk's copy streamed; kinematics by plain stores): {cpu[13]:.3f} s, "
         f"{cpu[14]:.3f} s and {cpu[15]:.3f} s.",

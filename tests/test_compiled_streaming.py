@@ -4,7 +4,8 @@ non-temporal stores of whole vectors that promise their alignment.  It must give
 chunked kernel's bits and count whatever the outputs' offsets and length, keep its
 promise (whole runs from a 64-byte boundary; the head and tail through aligned scratch
 rows), and fall back to the plain kernel where it cannot (outputs on different offsets,
-overlapping arrays)."""
+overlapping arrays) or not well (outputs crowded on one offset from a 4 KiB page where a
+vector store is narrower than a cache line)."""
 
 from __future__ import annotations
 
@@ -131,6 +132,62 @@ def test_outputs_it_cannot_stream_take_the_plain_kernel(spied):
     assert C.stream_start(list(_views(n, 5).values()), [th]) == 3
     odd = np.zeros(12).view(np.uint8)[4:84].view(np.float64)  # not on 8 bytes
     assert odd.ctypes.data % 8 and C.stream_start([odd], []) is None
+
+
+def _at(n, offsets):
+    """Arrays of n floats, the j-th at offsets[j] bytes from a 4 KiB page."""
+    arrays = []
+    for off in offsets:
+        raw = np.full(n + 1024, -7.0)
+        k = (-raw.ctypes.data % 4096 + off) // 8
+        arrays.append(raw[k:k + n])
+    return arrays
+
+
+def test_outputs_crowded_on_one_page_offset_stream_only_with_whole_line_stores(monkeypatch):
+    from sielaff.engine import kernel_math
+
+    n = 3 * C.RUN
+    crowded = _at(n, [0] * (C.CROWD + 1))
+    spread = _at(n, [64 * j for j in range(C.CROWD + 1)])
+    monkeypatch.setattr(kernel_math, "line_stores", lambda: False)
+    assert C.stream_start(crowded, []) is None
+    assert C.stream_start(crowded[:C.CROWD], []) == 0
+    assert C.stream_start(spread, []) == 0
+    assert C.stream_start(_at(n, [0] * C.CROWD + [4096 - 64]), []) == 0
+    monkeypatch.setattr(kernel_math, "line_stores", lambda: True)
+    assert C.stream_start(crowded, []) == 0
+
+
+def test_crowded_outputs_take_the_plain_kernel_with_its_bits(spied, monkeypatch):
+    from sielaff.engine import kernel_math
+
+    n = 3 * C.RUN + 5
+    th = np.linspace(-30.0, 400.0, n)
+    ref, ref_bad = _analyze(OPEN_HALF, th, streamed=False)
+    monkeypatch.setattr(kernel_math, "line_stores", lambda: False)
+    monkeypatch.setattr(C, "CROWD", 2)
+    got, bad = _analyze(OPEN_HALF, th, out=dict(zip(WANTED, _at(n, [0] * len(WANTED)))))
+    assert not spied and bad == ref_bad  # counted: the plain kernel ran
+    spread = dict(zip(WANTED, _at(n, [64 * j for j in range(len(WANTED))])))
+    got2, bad2 = _analyze(OPEN_HALF, th, out=spread)
+    assert spied and bad2 == ref_bad
+    for name in WANTED:
+        np.testing.assert_array_equal(got[name], ref[name])
+        np.testing.assert_array_equal(got2[name], ref[name])
+
+
+@pytest.mark.parametrize("name, features, whole", [
+    ("znver4", "+avx2,+avx512f", True), ("znver3", "+avx2,-avx512f", False),
+    ("skylake-avx512", "+avx2,+avx512f", False), ("sapphirerapids", "+avx512f", False)])
+def test_whole_line_stores_are_avx512_where_llvm_uses_it(monkeypatch, name, features, whole):
+    from numba.core import config
+
+    from sielaff.engine import kernel_math
+
+    monkeypatch.setattr(config, "CPU_NAME", name)
+    monkeypatch.setattr(config, "CPU_FEATURES", features)
+    assert kernel_math.line_stores.__wrapped__() is whole
 
 
 def test_the_streamed_loop_stores_whole_vectors_around_the_caches(spied, monkeypatch):

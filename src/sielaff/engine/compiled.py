@@ -16,8 +16,9 @@ must start on their own size's boundary.  :func:`_streamed` keeps that promise: 
 positions from every output's 64-byte boundary in runs of a multiple of ``RUN`` (so that
 the vector loop's scalar remainder, whose stores would break it, never runs), the head
 before that boundary and the tail through aligned scratch rows, copied back.  Outputs on
-different offsets from a cache line, or arrays that overlap, take the plain kernel.  The
-bits are the plain kernel's (tests/test_compiled_streaming.py).
+different offsets from a cache line, arrays that overlap, or (on a CPU whose vectors are
+narrower than a cache line) many outputs on one offset from a 4 KiB page take the plain
+kernel.  The bits are the plain kernel's (tests/test_compiled_streaming.py).
 
 What is compiled is the model's own plan: the steps the numpy engine would run for
 this request, each step's own code compiled for one position
@@ -206,19 +207,33 @@ def _head(out: np.ndarray) -> int:
     return (-out.ctypes.data % STREAM_LINE) // 8
 
 
+#: Where a vector store is narrower than a cache line (kernel_math.line_stores), outputs
+#: more than this many on one cache line's offset from a 4 KiB page take the plain kernel:
+#: measured on an AVX2 machine, 71 outputs at one offset (separate np.empty arrays) cost
+#: the streamed loop 0.20-0.24 s against the chunked kernel's 0.12-0.13 s, nine to an
+#: offset as much as it, and fewer less (docs/performance.md, "Compiled backend").
+CROWD = 8
+
+
 def stream_start(outs: list[np.ndarray], ins: list[np.ndarray]) -> int | None:
     """The positions before every output's next boundary of ``STREAM_LINE`` bytes (the
-    same for all), or None where the streamed kernel cannot write them: an output not
-    aligned to 8 bytes, or on another offset than the others; arrays that overlap (the
-    loop's check for overlap would fall back to its scalar form, which breaks the
-    promise)."""
-    from sielaff.engine.kernel_math import STREAM_LINE
+    same for all), or None where the streamed kernel cannot write them, or not well: an
+    output not aligned to 8 bytes, or on another offset than the others; arrays that
+    overlap (the loop's check for overlap would fall back to its scalar form, which
+    breaks the promise); outputs crowded on one offset from a 4 KiB page (``CROWD``)
+    where a vector store is narrower than a cache line."""
+    from collections import Counter
+
+    from sielaff.engine.kernel_math import STREAM_LINE, line_stores
 
     offs = {o.ctypes.data % STREAM_LINE for o in outs}
     if len(offs) != 1 or outs[0].ctypes.data % 8:
         return None
     spans = _ranges(list(outs) + list(ins))
     if any(a[1] > b[0] for a, b in zip(spans, spans[1:])):
+        return None
+    crowd = Counter(o.ctypes.data % 4096 // STREAM_LINE for o in outs).most_common(1)
+    if crowd[0][1] > CROWD and not line_stores():
         return None
     return _head(outs[0])
 

@@ -212,6 +212,22 @@ def _streaming():
 STREAM_ALIGN, STREAM_LINE = 32, 64
 
 
+@functools.cache
+def line_stores() -> bool:
+    """Whether numba's vectorised loops store a whole cache line (64 bytes) at once: AVX-512
+    in use, as LLVM does on AMD's CPUs that have it (znver4 on), not on Intel's (LLVM
+    prefers 256-bit vectors there).  A narrower vector writes each line of a streamed
+    output in parts, which many outputs on one offset from a 4 KiB page make slow
+    (compiled.stream_start asks; docs/performance.md).  Asks numba's CPU, as it compiles."""
+    import llvmlite.binding as llvm
+    from numba.core import config
+
+    # numba's config sets these at run time (NUMBA_CPU_NAME, NUMBA_CPU_FEATURES)
+    name = getattr(config, "CPU_NAME", None) or llvm.get_host_cpu_name()
+    features = getattr(config, "CPU_FEATURES", None) or llvm.get_host_cpu_features().flatten()
+    return X86 and name.startswith("znver") and "+avx512f" in features.split(",")
+
+
 def _streamed_store():
     """``_put(dst, i, v)``: ``dst[i] = v`` by a non-temporal store that promises LLVM
     ``STREAM_ALIGN``-byte alignment, so that the vectorised loop stores whole vectors
