@@ -505,7 +505,7 @@ def compiled_section(args, m, ath2, gfortran) -> int:
         f"({goal(med[0], 6)}); fresh arrays **{med[1]:.2f}x** ({goal(med[1], 3.5)}).  "
         f"The reused arrays are separate np.empty arrays, {crowd} of them on one offset "
         f"from a 4 KiB page: {kernel_used}.  "
-        f"The fresh call costs {cpu[1] - cpu[0]:.3f} s of CPU more than `out=`: its block "
+        f"The fresh call's CPU time less `out=`'s: {cpu[1] - cpu[0]:+.3f} s; its block "
         "is one the caller's dropped results left (compiled.KEEP_BYTES; each round drops "
         "its results, as a loop over calls does).  With each block new from the operating "
         f"system (KEEP_BYTES = 0, as any first call) {med[16]:.2f}x ({cpu[16]:.3f} s); "
