@@ -121,6 +121,39 @@ def test_blocks_dropped_and_taken_by_threads_are_never_shared(pool):
     assert sum(b.nbytes for b in pool) <= C.KEEP_BYTES
 
 
+def test_a_child_forked_while_the_lock_is_held_takes_a_block(pool):
+    """The lock is new in a forked child: one forked while another thread took a block
+    does not wait for ever on its first large fresh result."""
+    import os
+    import time
+    import warnings
+
+    held = C._idle_lock
+    assert held.acquire()
+    try:
+        with warnings.catch_warnings():  # Python 3.12 on: forking a threaded process warns
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
+        if pid == 0:  # the child: a block, then out
+            code = 1
+            try:
+                code = 0 if len(C._fresh(3, 700)) == 3 and not C._idle_lock.locked() else 2
+            finally:
+                os._exit(code)
+    finally:
+        held.release()
+    deadline = time.monotonic() + 30.0
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            assert os.waitstatus_to_exitcode(status) == 0
+            return
+        time.sleep(0.05)
+    os.kill(pid, 9)
+    os.waitpid(pid, 0)
+    pytest.fail("the forked child waited on the lock")
+
+
 def test_results_written_into_a_kept_block_are_every_position_written(pool, monkeypatch):
     """A kept block holds the dropped results: every position of the next call's is the
     kernel's, plain and streamed."""

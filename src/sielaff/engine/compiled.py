@@ -55,6 +55,7 @@ the first call of a request compiles its kernel (seconds to tens of seconds).
 from __future__ import annotations
 
 import math
+import os
 import threading
 from typing import Any
 
@@ -119,6 +120,16 @@ _ALIGN_FROM = 8 * HUGE_PAGE // 8
 KEEP_BYTES = 1 << 30
 _idle: list[np.ndarray] = []
 _idle_lock = threading.Lock()
+
+
+def _after_fork() -> None:
+    """A child forked while another thread held the lock would wait on it for ever."""
+    global _idle_lock
+    _idle_lock = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):  # POSIX
+    os.register_at_fork(after_in_child=_after_fork)
 
 
 class _Lease:
