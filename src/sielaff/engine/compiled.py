@@ -222,7 +222,8 @@ def _head(out: np.ndarray) -> int:
 #: more than this many on one cache line's offset from a 4 KiB page take the plain kernel:
 #: measured on an AVX2 machine, 71 outputs at one offset (separate np.empty arrays) cost
 #: the streamed loop 0.20-0.24 s against the chunked kernel's 0.12-0.13 s, nine to an
-#: offset as much as it, and fewer less (docs/performance.md, "Compiled backend").
+#: offset as much as it, and fewer less (A/B scripts not kept; docs/performance.md's
+#: "Compiled backend" measures the crowded and the spread case).
 CROWD = 8
 
 
