@@ -3,15 +3,17 @@ pass that converges in a different number of passes at each position, never at s
 (a negative number: the limit is reached), and not at all where its start says so.
 
 The numpy form is checked against a plain loop over the positions written here, one
-position at a time; the compiled kernel (passes over a chunk, the stopped positions kept
-by a select) against the numpy form, bit for bit (the pass is + - * / and abs only, each
-correctly rounded in both).  Pin friction's fixed point is the package's iterated step:
-tests/test_compiled_friction.py checks it on drawn linkages."""
+position at a time; the compiled kernel (passes over a chunk, each position's results
+captured at the pass that said done) against the numpy form, bit for bit (the pass is
++ - * / and abs only, each correctly rounded in both).  Pin friction's fixed point is
+the package's iterated step: tests/test_compiled_friction.py checks it on drawn
+linkages."""
 
 from __future__ import annotations
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -143,7 +145,54 @@ def test_the_kernel_runs_the_passes_without_a_branch_and_stops_when_none_is_left
     inner = passes[passes.index(next(x for x in passes if "for _j" in x)) + 1:]
     inner = inner[:inner.index(next(x for x in inner if x.strip() == "if _left == 0:"))]
     assert not any(x.strip().startswith(("if ", "while ", "for ")) for x in inner)
-    assert sum("_select(" in x for x in inner) == 5  # state, two results, count, go
+    # the state stored as computed, the two results and the count captured at the pass
+    # that says done (no select of a row's own value: a masked store), go selected
+    assert sum("_capture(" in x for x in inner) == 3
+    assert sum("_select(" in x for x in inner) == 1
+    assert any(x.strip().startswith("_x") and x.strip().endswith("= _yn0") for x in inner)
     assert passes[-2].strip() == "if _left == 0:" and passes[-1].strip() == "break"
     with pytest.raises(K.Uncompilable, match="LIMIT"):  # a limit per position: refused
         K.kernel_source(model, order, ("ROOT",), ("TOL",), ("ATH2", "LIMIT"))
+
+
+def test_capture_gives_the_bits_of_the_pass_that_said_done():
+    """kernel_math._capture compiled: where c, q's bits exactly (-0.0, NaN, inf and a
+    subnormal among them), else the row's value, as its Python form says."""
+    numba = pytest.importorskip("numba")
+    from sielaff.engine import kernel_math
+
+    capture = kernel_math._capture_intrinsic()
+
+    @numba.njit
+    def rows(c, q, old, out):
+        for j in range(q.size):
+            out[j] = capture(c[j], q[j], old[j])
+
+    q = np.array([-0.0, np.nan, -np.inf, 5e-324, -1.5, 3.0, 0.0, np.inf])
+    c = np.array([True, True, True, True, True, False, False, False])
+    old = np.where(c, 0.0, np.array([7.0] * 8))
+    out = np.empty(q.size)
+    rows(c, q, old, out)
+    want = np.array([kernel_math._capture(ci, qi, oi) for ci, qi, oi in zip(c, q, old)])
+    assert out.view(np.int64).tolist() == want.view(np.int64).tolist()
+    assert np.signbit(out[0]) and out[1] != out[1] and out[2] == -np.inf
+
+
+def test_the_passes_store_no_row_by_a_mask(monkeypatch):
+    """No select of a row's own value in the passes, so no masked store in the kernel's
+    assembly (x86-64: VMASKMOVPD, or a store under an AVX-512 mask), which costs an AVX2
+    AMD CPU some ten cycles a store (engine/kernel.py's _passes)."""
+    pytest.importorskip("numba")
+    from sielaff.engine.kernel_math import X86
+
+    if not X86:
+        pytest.skip("the assembly is x86-64's")
+    monkeypatch.setenv("SIELAFF_KERNEL_DIR", "off")
+    monkeypatch.setattr(K, "_KERNELS", {})
+    analyze(EXAMPLE, _numbers(K.CHUNK), ["ROOT", "HALF", "PASSES"], model=_model(),
+            backend="numba")
+    kernels = list(K._KERNELS.values())
+    assert len(kernels) == 1  # counted: the kernel of the passes
+    asm = kernels[0].inspect_asm(kernels[0].signatures[0])
+    assert "vmaskmov" not in asm and not re.search(r"vmovup[sd]\s+%[xyz]mm\d+, [^\n]*\{%k", asm)
+    assert re.search(r"\bvsqrtp|\bvdivp", asm)  # the pass vectorised (its division packed)

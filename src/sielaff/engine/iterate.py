@@ -13,8 +13,8 @@ Out: a step providing the results and the count (:func:`iterated`): at each posi
 The numpy engine runs the passes over the positions still iterating (compacted after
 each pass, so a position costs the passes it needs).  The compiled kernel
 (:mod:`sielaff.engine.kernel`) runs each pass over a chunk of positions in a loop of its
-own, every position of the chunk computed and the ones that stopped keeping their values
-by a select: a loop with no branch in it, which LLVM vectorises, where a loop of
+own, every position of the chunk computed and the results of each captured at the pass
+that said done: a loop with no branch in it, which LLVM vectorises, where a loop of
 iterations inside the loop over positions (a different count at each) cannot be.  The
 same pass gives both the same arithmetic, so the results agree as any step's do.
 """

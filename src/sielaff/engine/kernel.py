@@ -36,8 +36,9 @@ aligned scratch rows).  A step that calls array code
 (pin friction's solve where the law need not contract) cannot be vectorised: it runs in
 a loop over the chunk of its own, between the loops of the steps before and after it,
 which stay vectorised.  An iterated step (:mod:`sielaff.engine.iterate`: pin friction's
-fixed point) runs as passes over the chunk, each pass a loop with no branch in it (the
-positions that stopped keep their values by a select), until no position is left.
+fixed point) runs as passes over the chunk, each pass a loop with no branch in it (a
+position that stopped is computed on, its results captured once, at the pass that said
+done), until no position is left.
 
 A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
 an output that depends on the position is NaN where the loop cannot close (the model's
@@ -329,9 +330,12 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
 
 def _passes(j: int, st: Step, start: list[str], v: Any, crossing: list[str]) -> list[str]:
     """An iterated step's loops over a chunk (engine/iterate.py): its rows set from its
-    start, then each pass over every position of the chunk, a select keeping the values
-    of the positions that stopped (no branch: LLVM vectorises the pass), until none is
-    left or the limit is reached."""
+    start, then each pass over every position of the chunk (no branch: LLVM vectorises
+    the pass), until none is left or the limit is reached.  The state is stored
+    whatever the position (one that stopped is never read again); a result and the
+    count are captured (kernel_math._capture) at the pass that says done, the only
+    one: it stops the position.  A select of a row's own value there would be a masked
+    store, which costs an AVX2 AMD CPU some ten cycles."""
     assert st.iterates is not None
     n_state = st.iterates[1]
     first, consts = st.needs[2:2 + n_state], st.needs[2 + n_state:]
@@ -356,10 +360,10 @@ def _passes(j: int, st: Step, start: list[str], v: Any, crossing: list[str]) -> 
             + f" = _s{j}({', '.join([f'_y{m}' for m in range(n_state)] + [v(c) for c in consts])})",
             f"    _a = {go} != 0.0",
             "    _go = _a & _keep",
-            *(f"    {state[m]} = _select(_go, _yn{m}, _y{m})" for m in range(n_state)),
-            *(f"    {row[p]} = _select(_a & _done, {q}, {row[p]})"
+            *(f"    {state[m]} = _yn{m}" for m in range(n_state)),
+            *(f"    {row[p]} = _capture(_a & _done, {q}, {row[p]})"
               for p, q in zip(st.provides[:-1], results, strict=True)),
-            f"    {row[st.provides[-1]]} = _select(_a & _done, _itf, {row[st.provides[-1]]})",
+            f"    {row[st.provides[-1]]} = _capture(_a & _done, _itf, {row[st.provides[-1]]})",
             f"    {go} = _select(_go, 1.0, 0.0)",
             "    _left += _go"]),
         "    if _left == 0:",
@@ -530,9 +534,15 @@ def kernel_for(model: Model, order: Plan, wanted: tuple[str, ...], scalars: tupl
             return _KERNELS[key]
         glob: dict[str, Any] = {"_NAN": math.nan, "_np": numpy}
         glob.update({f"_r{j}": st[1] for j, st in enumerate(structs)})
-        from sielaff.engine.kernel_math import _intrinsics, _streamed_store, _streaming
+        from sielaff.engine.kernel_math import (
+            _capture_intrinsic,
+            _intrinsics,
+            _streamed_store,
+            _streaming,
+        )
 
         glob["_select"] = _intrinsics()[0]
+        glob["_capture"] = _capture_intrinsic()
         glob["_copy_out"], glob["_fence"] = _streaming()
         glob["_put"] = _streamed_store()
         glob.update({f"_s{j}": forms[_code(st)] for j, st in enumerate(called)})

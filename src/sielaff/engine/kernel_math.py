@@ -63,6 +63,15 @@ def _floor(x):
     return float(np.floor(x))
 
 
+def _capture(c, q, old):
+    """``q`` where ``c``, else ``old``, for a row that is +0.0 until ``c`` first holds and
+    holds at most once there (an iterated step's results: engine/iterate.py).  Compiled,
+    ``old``'s bits or-ed with ``q``'s where ``c`` (bits exact), where a select of the
+    row's own value becomes a masked store (VMASKMOVPD), some ten cycles each on an AVX2
+    AMD CPU (Zen 3, a throw-away A/B: fourteen rows 11.6 ns a position so, 6.4 or-ed)."""
+    return q if c else old
+
+
 @functools.cache
 def _intrinsics():
     """(_select, _floor, _fma) for numba: each one LLVM instruction, no call, no branch."""
@@ -111,6 +120,33 @@ def _intrinsics():
         return types.float64(x, y, z), codegen
 
     return select, floor, fma
+
+
+@functools.cache
+def _capture_intrinsic():
+    """``_capture`` for numba: an integer or of the bits, no select of the row's value."""
+    import llvmlite.ir as ir
+    from numba.core import types
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def capture(typingctx, c, q, old):
+        if not (isinstance(q, types.Float) and isinstance(old, types.Float)):
+            return None
+
+        def codegen(context, builder, sig, args):
+            i64 = ir.IntType(64)
+            cond = context.cast(builder, args[0], sig.args[0], types.boolean)
+            x = builder.bitcast(context.cast(builder, args[1], sig.args[1], types.float64),
+                                i64)
+            y = builder.bitcast(context.cast(builder, args[2], sig.args[2], types.float64),
+                                i64)
+            r = builder.or_(y, builder.select(cond, x, ir.Constant(i64, 0)))
+            return builder.bitcast(r, ir.DoubleType())
+
+        return types.float64(c, q, old), codegen
+
+    return capture
 
 
 def _streaming():
