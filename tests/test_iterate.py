@@ -11,6 +11,7 @@ linkages."""
 
 from __future__ import annotations
 
+import importlib.util
 import itertools
 import math
 import re
@@ -196,3 +197,31 @@ def test_the_passes_store_no_row_by_a_mask(monkeypatch):
     asm = kernels[0].inspect_asm(kernels[0].signatures[0])
     assert "vmaskmov" not in asm and not re.search(r"vmovup[sd]\s+%[xyz]mm\d+, [^\n]*\{%k", asm)
     assert re.search(r"\bvsqrtp|\bvdivp", asm)  # the pass vectorised (its division packed)
+
+
+@iterated(provides=("ROOT", "HALF", "PASSES"), limit="LIMIT", go="go", start=("x_0",),
+          consts=("ATH2", "TOL"))
+def _heron_kept_on(x, ATH2, TOL):
+    """Heron's pass saying keep where it says done: the position stops at its first done
+    all the same."""
+    new = 0.5 * (x + ATH2 / x)
+    blown = ~np.isfinite(new)
+    done = (np.abs(new - x) <= TOL * new) & ~blown
+    return new, new, 0.5 * new, done, ~blown
+
+
+def test_a_position_stops_at_its_first_done_whatever_keep_says():
+    """Both engines keep the first done pass's results and number (a pass that went on
+    would give the next pass's, an or of two captures in the kernel garbage)."""
+    model = Model("heron-kept-on", seed=_model().seed, results=("ROOT", "HALF", "PASSES"))
+    model.add(step_of(_start), step_of(_heron_kept_on))
+    a = _numbers(3 * K.CHUNK + 5)
+    ref = _one_by_one(a)
+    got = {"numpy": analyze(EXAMPLE, a, ["ROOT", "HALF", "PASSES"], model=model)}
+    if importlib.util.find_spec("numba"):
+        got["numba"] = analyze(EXAMPLE, a, ["ROOT", "HALF", "PASSES"], model=model,
+                               backend="numba")
+    _drawn(got["numpy"], a)
+    for engine_name, r in got.items():
+        for name in ref:
+            np.testing.assert_array_equal(r[name], ref[name], err_msg=f"{engine_name} {name}")

@@ -6,9 +6,9 @@ In:  the pass, ``body(*state, *consts) -> (*new_state, *results, done, keep)``, 
      0.0), of its starting state and of its constants.
 Out: a step providing the results and the count (:func:`iterated`): at each position
      where ``go`` holds, the pass runs on the state, the results of the first pass that
-     says ``done`` are kept and its number is the count, and the position stops where a
-     pass says not ``keep`` (done, or failed); results and count stay 0.0 where no pass
-     said done within ``limit`` passes.
+     says ``done`` are kept and its number is the count, and the position stops there
+     or where a pass says not ``keep`` (failed); results and count stay 0.0 where no
+     pass said done within ``limit`` passes.
 
 The numpy engine runs the passes over the positions still iterating (compacted after
 each pass, so a position costs the passes it needs).  The compiled kernel
@@ -95,7 +95,8 @@ def run(body: Callable[..., Any], n_state: int, n_results: int, limit: Any, go: 
         if not idx.size:
             break
         out = body(*at)
-        done, keep = out[-2], out[-1]
+        done = out[-2]
+        keep = out[-1] & ~done  # a position stops at its first done, whatever keep says
         for r, x in zip(results, out[n_state:n_state + n_results], strict=True):
             r[idx[done]] = x[done] if np.ndim(x) else x
         count[idx[done]] = float(k)

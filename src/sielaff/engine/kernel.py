@@ -359,7 +359,7 @@ def _passes(j: int, st: Step, start: list[str], v: Any, crossing: list[str]) -> 
                                + ["_done", "_keep"])
             + f" = _s{j}({', '.join([f'_y{m}' for m in range(n_state)] + [v(c) for c in consts])})",
             f"    _a = {go} != 0.0",
-            "    _go = _a & _keep",
+            "    _go = _a & _keep & (_done == False)",  # stopped at its first done
             *(f"    {state[m]} = _yn{m}" for m in range(n_state)),
             *(f"    {row[p]} = _capture(_a & _done, {q}, {row[p]})"
               for p, q in zip(st.provides[:-1], results, strict=True)),
