@@ -34,8 +34,9 @@ without friction.
 
 The effect's steps are written once for both engines: the start, the fixed point's
 pass (an iterated step, :mod:`sielaff.engine.iterate`: over arrays the positions still
-iterating, in the compiled kernel passes over a chunk), the solve where the law need not
-contract (array code, given an array of one by the kernel) and the losses, compiled by
+iterating, in the compiled kernel passes over a chunk), the check of where the law need
+not contract, the solve there (array code, given an array of one by the kernel, which
+calls it only at those positions: ``only_where``) and the losses, compiled by
 the numba backend for one position with :mod:`sielaff.engine.arith`'s operations in
 their one-position forms.  The FrictionWarning is declared with the solve's step
 (``warns``) and issued by the model after it, on either backend.
@@ -309,9 +310,11 @@ _FIXED = ("fa32x_p", "fa32y_p", "fb34x_p", "fb34y_p", "foax_p", "foay_p", "fobx_
           "foby_p", "torq_p")
 _SOLVED = tuple(n[:-2] + "_h" for n in _FIXED)
 
-# The effect runs in four steps, so that the compiled kernel vectorises all but the
+# The effect runs in five steps, so that the compiled kernel vectorises all but the
 # solve where the law need not contract (array code, rare): the start, the fixed point
-# (an iterated step: engine/iterate.py), that solve, and the losses.
+# (an iterated step: engine/iterate.py), the check of where the law need not contract
+# (vectorised, so that the kernel calls the solve only there: only_where), that solve,
+# and the losses.
 
 
 def _all_finite(values):
@@ -356,16 +359,34 @@ def _friction_fixed_point(t_O2, t_A, t_B, t_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y
             c[8], done, ~done & ~blown)
 
 
+@step(provides=("friction_status_0", "friction_hard"),
+      needs=_MUR + ("friction_go",) + _RATES + ("R3", "R4", "s34"), zero_when=_MUR)
+def _friction_check(MUR_O2, MUR_A, MUR_B, MUR_O4, friction_go, TH2D, TH3D, TH4D, R3, R4,
+                    s34):
+    """The status where the fixed point answers (1.0 where a pin is at rest, else 0.0),
+    and where the law need not contract (1.0: the solve's array code runs there)."""
+    sg = _signs(TH2D, TH3D, TH4D)
+    status = np.where((sg[0] == 0.0) | (sg[1] == 0.0) | (sg[2] == 0.0) | (sg[3] == 0.0),
+                      1.0, 0.0)
+    hard = (friction_go != 0.0) & ~(contraction((MUR_O2, MUR_A, MUR_B, MUR_O4), R3, R4, s34)
+                                    < 1.0)
+    return status, np.where(hard, 1.0, 0.0)
+
+
 @step(provides=_SOLVED + ("FRICTION_ITERATIONS", "FRICTION_STATUS"),
-      needs=_MUR + _FIXED + ("iterations_p", "friction_go") + _F0 + _RATES + _GEO,
-      zero_when=_MUR, warns=(("FRICTION_STATUS",), _warn_status))
+      needs=_MUR + _FIXED + ("iterations_p", "friction_status_0", "friction_hard")
+      + _F0 + _RATES + _GEO,
+      zero_when=_MUR, warns=(("FRICTION_STATUS",), _warn_status),
+      only_where=("friction_hard", _FIXED + ("iterations_p", "friction_status_0")))
 def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb34y_p,
-                    foax_p, foay_p, fobx_p, foby_p, torq_p, iterations_p, friction_go,
-                    FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0,
-                    TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34):
-    """The fixed point's answer, or the solve's where the law need not contract, and the
-    status of each position."""
-    shape = shape_of((fa32x_p, friction_go, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0,
+                    foax_p, foay_p, fobx_p, foby_p, torq_p, iterations_p, friction_status_0,
+                    friction_hard, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0,
+                    FOBX_0, FOBY_0, TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3, s3, c4, s4,
+                    s34):
+    """The fixed point's answer, or the solve's where the law need not contract
+    (``friction_hard``), and the status of each position: elsewhere the fixed point's
+    corrections, count and status as they are (``only_where``)."""
+    shape = shape_of((fa32x_p, friction_hard, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0,
                       FOAY_0, FOBX_0, FOBY_0, R2, R3, R4, c2, s2, c3, s3, c4, s4, s34, TH2D,
                       TH3D, TH4D))
     geo = (flat(R2, shape), flat(R3, shape), flat(R4, shape), flat(c2, shape),
@@ -382,11 +403,9 @@ def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb3
             flat(fb34y_p, shape), flat(foax_p, shape), flat(foay_p, shape),
             flat(fobx_p, shape), flat(foby_p, shape), flat(torq_p, shape))
     iterations = flat(iterations_p, shape)
-    finite = flat(friction_go, shape) != 0.0
-    status = np.where((sg[0] == 0.0) | (sg[1] == 0.0) | (sg[2] == 0.0) | (sg[3] == 0.0),
-                      1.0, 0.0)
+    status = flat(friction_status_0, shape)
     # where the law need not be a contraction, every solution it has (friction_solve.py)
-    hard = positions(finite & ~(contraction(mur, geo[1], geo[2], geo[9]) < 1.0))
+    hard = positions(flat(friction_hard, shape) != 0.0)
     if not none(hard):
         x0, x1, _, found = solve(_batch8(f0, hard), mur, _batch4(sg, hard),
                                  batch(geo[1], hard), batch(geo[2], hard),
@@ -408,8 +427,8 @@ def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb3
         corr = _scatter9(_own9(corr, shape), hard,
                          _forces(t_new, _pick4(sg, hard), _pick10(geo, hard)), new_x)
         iterations = scatter(put(filled(shape, 0.0), iterations, True), hard, 0.0, new_x)
-        status = scatter(status, hard, np.where(found == 0.0, pick(status, hard), found),
-                         new_x)
+        status = scatter(put(filled(shape, 0.0), status, True), hard,
+                         np.where(found == 0.0, pick(status, hard), found), new_x)
     return (shaped(corr[0], shape), shaped(corr[1], shape), shaped(corr[2], shape),
             shaped(corr[3], shape), shaped(corr[4], shape), shaped(corr[5], shape),
             shaped(corr[6], shape), shaped(corr[7], shape), shaped(corr[8], shape),
@@ -597,7 +616,8 @@ max_iter = 100                # ... and its iterations (PinFriction)
 
 
 EFFECT = Effect("pin friction", (step_of(_friction_start), step_of(_friction_fixed_point),
-                                   step_of(_friction_solve), step_of(_friction_losses),
+                                   step_of(_friction_check), step_of(_friction_solve),
+                                   step_of(_friction_losses),
                                    step_of(_friction_solutions)), _seed,
                 torque="TORQ_FRICTION",
                 corrects={**{t: t.lower() + "_f" for t in TOTALS[:-1]},

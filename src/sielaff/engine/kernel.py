@@ -35,10 +35,11 @@ runs of whole vectors from each output's 64-byte boundary, the head and tail thr
 aligned scratch rows).  A step that calls array code
 (pin friction's solve where the law need not contract) cannot be vectorised: it runs in
 a loop over the chunk of its own, between the loops of the steps before and after it,
-which stay vectorised.  An iterated step (:mod:`sielaff.engine.iterate`: pin friction's
-fixed point) runs as passes over the chunk, each pass a loop with no branch in it (a
-position that stopped is computed on, its results captured once, at the pass that said
-done), until no position is left.
+which stay vectorised, and is called only where its ``only_where`` flag holds (the
+registry's Step: elsewhere its outputs are some of its inputs, copied).  An iterated
+step (:mod:`sielaff.engine.iterate`: pin friction's fixed point) runs as passes over
+the chunk, each pass a loop with no branch in it (a position that stopped is computed
+on, its results captured once, at the pass that said done), until no position is left.
 
 A step the plan skips (an input identically zero) is the literal 0.0 here, as in numpy;
 an output that depends on the position is NaN where the loop cannot close (the model's
@@ -284,7 +285,13 @@ def kernel_source(model: Model, order: Plan, wanted: tuple[str, ...],
                 take(n)
             args = ", ".join(v(n) for n in st.needs)
             targets = ", ".join(v(p) for p in st.provides)
-            body.append(f"{targets} = _s{len(called)}({args})")
+            call = f"{targets} = _s{len(called)}({args})"
+            if st.only_where is not None and st.name in serial:  # the call only where needed
+                flag, through = st.only_where
+                body += [f"if {v(flag)} != 0.0:", "    " + call, "else:",
+                         f"    {targets} = {', '.join(v(n) for n in through)}"]
+            else:
+                body.append(call)
             called.append(st)
         if model.counts in st.provides and not skipped:
             counted = True

@@ -53,6 +53,10 @@ class Step:
     warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
     #: (pass, state values): an iterated step (engine/iterate.py), ``fn`` its numpy form
     iterates: tuple[Callable[..., Any], int] | None = None
+    #: (flag, names): where the need ``flag`` is 0.0 the step's outputs are the needs
+    #: ``names``, one per output, so the compiled kernel calls a serial step only where
+    #: ``flag`` holds (its loop over a chunk is otherwise a call at every position)
+    only_where: tuple[str, tuple[str, ...]] | None = None
 
 
 def zero_when_of(zero_when: Iterable[Any]
@@ -69,7 +73,8 @@ def zero_when_of(zero_when: Iterable[Any]
 
 def step(provides: Iterable[str], needs: Iterable[str] = (),
          zero_when: Iterable[Any] = (), per_link: bool = False,
-         warns: tuple[tuple[str, ...], Callable[..., None]] | None = None
+         warns: tuple[tuple[str, ...], Callable[..., None]] | None = None,
+         only_where: tuple[str, tuple[str, ...]] | None = None
          ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Mark the decorated function as a step (``steps_of`` finds it; a model adds it).
 
@@ -84,10 +89,19 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     and the step provides the tuple of their answers (:func:`per_link`).  ``warns``:
     ``(names, fn)``, the step's warnings issued by ``fn`` from its outputs ``names``
     after it runs (the model's ``warn``), so that the compiled backend, whose code cannot
-    warn, issues the same ones.
+    warn, issues the same ones.  ``only_where``: ``(flag, names)``, a promise of the
+    step's code that where the need ``flag`` is 0.0 its outputs are the needs ``names``
+    (one per output, in order); the compiled kernel then calls a serial step (array code)
+    only where ``flag`` is not 0.0 (``tests/test_only_where.py`` holds every step that
+    promises it to its promise).
     """
     provides, needs = tuple(provides), tuple(needs)
     flat, groups = zero_when_of(zero_when)
+    if only_where is not None and (only_where[0] not in needs
+                                   or not set(only_where[1]) <= set(needs)
+                                   or len(only_where[1]) != len(provides)):
+        raise TypeError(f"only_where {only_where}: a need, and one need per output of "
+                        f"{provides}")
 
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
         params = tuple(inspect.signature(fn).parameters)[1 if per_link else 0:]
@@ -96,7 +110,7 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
         if warns is not None and not set(warns[0]) <= set(provides):
             raise TypeError(f"step {fn.__name__}: warns from {warns[0]}, not all provided")
         fn.__sielaff_step__ = Step(fn.__name__, fn, provides, needs, flat, groups,  # type: ignore[attr-defined]
-                                   per_link, warns)
+                                   per_link, warns, only_where=only_where)
         return fn
 
     return decorate
