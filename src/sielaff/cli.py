@@ -487,12 +487,6 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
     try:
         take_stdin(args)  # an input named -: standard input, called <stdin>
         return _command(args.func)(args)
-    except (DeckError, CommandError, ValueError) as exc:
-        if debug:
-            raise
-        print(str(exc) if isinstance(exc, DeckError | CommandError) else f"sielaff: {exc}",
-              file=sys.stderr)
-        return getattr(exc, "status", EXIT_DECK)
     except KeyboardInterrupt:
         if debug:
             raise
@@ -505,25 +499,38 @@ def _dispatch(args: argparse.Namespace, debug: bool) -> int:
         # The reader went away (``sielaff run deck | head``): leave quietly.
         silence_stdout()
         return 0
-    except OSError as exc:  # an output file that cannot be written, a full disk
+    except Exception as exc:
         if debug:
             raise
+        # A signal already turned into an exception ends the run, whatever failed after it:
+        # one raised in a weakref callback (matplotlib's transforms) is swallowed there and
+        # sent again a moment later (``_unraisable``), and the figure it cut short may fail
+        # first ("Invalid bounding box"); one that arrived while a C extension was loading
+        # comes back as that extension's ImportError.
+        if SIGNAL_STATE["raised"] is not None:
+            return _said_signal(SIGNAL_STATE["raised"])
+        return _failed(exc)
+
+
+def _failed(exc: Exception) -> int:
+    """Say in one line what failed and return its exit status; re-raise what is a bug."""
+    if isinstance(exc, DeckError | CommandError | ValueError):
+        print(str(exc) if isinstance(exc, DeckError | CommandError) else f"sielaff: {exc}",
+              file=sys.stderr)
+        return getattr(exc, "status", EXIT_DECK)
+    if isinstance(exc, OSError):  # an output file that cannot be written, a full disk
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"sielaff: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_DECK
-    except Exception:
-        # A signal that arrived while a C extension was loading (numpy importing datetime)
-        # comes back as that extension's ImportError: it is still the signal.
-        signum = SIGNAL_STATE["raised"]
-        if debug or signum is None:
-            raise
-        return _said_signal(signum)
+    raise exc
 
 
 def _said_signal(signum: int) -> int:
     """Say on stderr that signal ``signum`` ended the run, and what it left of the outputs;
     its exit status (130 for Ctrl-C, 128 + N for another)."""
     from sielaff.tools.output import changed_note
+
+    finish_signals()  # the signal sent again after a finaliser swallowed it says nothing twice
 
     if signum == signal.SIGINT:
         print(f"sielaff: interrupted; {changed_note()}", file=sys.stderr)

@@ -395,18 +395,18 @@ def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb3
     f0 = (flat(FA32X_0, shape), flat(FA32Y_0, shape), flat(FB34X_0, shape),
           flat(FB34Y_0, shape), flat(FOAX_0, shape), flat(FOAY_0, shape),
           flat(FOBX_0, shape), flat(FOBY_0, shape))
-    signs = _signs(TH2D, TH3D, TH4D)
-    sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
-          flat(signs[3], shape))
     mur = (MUR_O2, MUR_A, MUR_B, MUR_O4)
     corr = (flat(fa32x_p, shape), flat(fa32y_p, shape), flat(fb34x_p, shape),
             flat(fb34y_p, shape), flat(foax_p, shape), flat(foay_p, shape),
             flat(fobx_p, shape), flat(foby_p, shape), flat(torq_p, shape))
     iterations = flat(iterations_p, shape)
-    status = flat(friction_status_0, shape)
+    status = put(filled(shape, 0.0), friction_status_0, True)  # an output of its own
     # where the law need not be a contraction, every solution it has (friction_solve.py)
     hard = positions(flat(friction_hard, shape) != 0.0)
     if not none(hard):
+        signs = _signs(TH2D, TH3D, TH4D)
+        sg = (flat(signs[0], shape), flat(signs[1], shape), flat(signs[2], shape),
+              flat(signs[3], shape))
         x0, x1, _, found = solve(_batch8(f0, hard), mur, _batch4(sg, hard),
                                  batch(geo[1], hard), batch(geo[2], hard),
                                  batch(geo[5], hard), batch(geo[6], hard),
@@ -427,8 +427,8 @@ def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb3
         corr = _scatter9(_own9(corr, shape), hard,
                          _forces(t_new, _pick4(sg, hard), _pick10(geo, hard)), new_x)
         iterations = scatter(put(filled(shape, 0.0), iterations, True), hard, 0.0, new_x)
-        status = scatter(put(filled(shape, 0.0), status, True), hard,
-                         np.where(found == 0.0, pick(status, hard), found), new_x)
+        status = scatter(status, hard, np.where(found == 0.0, pick(status, hard), found),
+                         new_x)
     return (shaped(corr[0], shape), shaped(corr[1], shape), shaped(corr[2], shape),
             shaped(corr[3], shape), shaped(corr[4], shape), shaped(corr[5], shape),
             shaped(corr[6], shape), shaped(corr[7], shape), shaped(corr[8], shape),

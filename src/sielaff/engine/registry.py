@@ -97,11 +97,14 @@ def step(provides: Iterable[str], needs: Iterable[str] = (),
     """
     provides, needs = tuple(provides), tuple(needs)
     flat, groups = zero_when_of(zero_when)
-    if only_where is not None and (only_where[0] not in needs
-                                   or not set(only_where[1]) <= set(needs)
-                                   or len(only_where[1]) != len(provides)):
-        raise TypeError(f"only_where {only_where}: a need, and one need per output of "
-                        f"{provides}")
+    if only_where is not None:
+        flag, through = only_where
+        if isinstance(through, str) or flag not in needs:
+            raise TypeError(f"only_where {only_where}: the flag must be a need, and the "
+                            "names a tuple of them")
+        only_where = (flag, tuple(through))
+        if not set(only_where[1]) <= set(needs) or len(only_where[1]) != len(provides):
+            raise TypeError(f"only_where {only_where}: one need per output of {provides}")
 
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
         params = tuple(inspect.signature(fn).parameters)[1 if per_link else 0:]
@@ -355,12 +358,13 @@ class Model:
         ``skip_zeros=False`` one that never skips a step (what the ``zero_when``
         declarations are checked against)."""
         def redo(s: Step) -> Step:
-            fn = wrap(s)  # an iterated step's pass is its own only while fn is
+            fn = wrap(s)  # an iterated step's pass, and a promise, its own only while fn is
             iterates = s.iterates if fn is s.fn else None
+            only_where = s.only_where if fn is s.fn else None
             if skip_zeros:
-                return dataclasses_replace(s, fn=fn, iterates=iterates)
-            return dataclasses_replace(s, fn=fn, iterates=iterates, zero_when=(),
-                                       zero_groups=())
+                return dataclasses_replace(s, fn=fn, iterates=iterates, only_where=only_where)
+            return dataclasses_replace(s, fn=fn, iterates=iterates, only_where=only_where,
+                                       zero_when=(), zero_groups=())
 
         new = Model(self.name, seed=self._seed, results=self.results, sums=self.sums,
                     breakdown=self.breakdown, counts=self.counts, params=self.own_params,

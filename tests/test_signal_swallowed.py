@@ -1,7 +1,10 @@
-"""A signal that lands while a C extension loads (numpy importing ``datetime``) comes back
-as that extension's ImportError; the command still reports the signal in one line, with
-its status, and no traceback (found by test_spec_sweep_and_output_failures' SIGTERM
-trials under load)."""
+"""A signal the interrupted code swallows is still the signal: one that lands while a C
+extension loads (numpy importing ``datetime``) comes back as that extension's ImportError;
+one whose handler runs in a weakref callback (matplotlib's transforms) is sent again a
+moment later, and the figure it cut short may fail first with an error of its own
+("Invalid bounding box").  The command reports the signal in one line, with its status, and
+no traceback (both found by test_spec_sweep_and_output_failures' SIGTERM trials: under load,
+and on CI)."""
 
 from __future__ import annotations
 
@@ -12,28 +15,51 @@ import pytest
 from conftest import DECKS
 
 
-def _swallowing(signum):
+#: What the interrupted code raised instead of the signal.
+AFTERMATHS = {
+    "import": ImportError("PyCapsule_Import could not import module \"datetime\""),
+    "figure": ValueError("Invalid bounding box"),
+    "file": OSError(5, "Input/output error", "p/kin-link-angles.png"),
+}
+
+
+def _swallowing(signum, aftermath):
     from sielaff.tools.common import SIGNAL_STATE
 
     def command(args):
         SIGNAL_STATE["raised"] = signum  # what _raise_terminated records before raising
-        raise ImportError("PyCapsule_Import could not import module \"datetime\"")
+        raise AFTERMATHS[aftermath]
     return lambda name: command
 
 
+@pytest.mark.parametrize("aftermath", sorted(AFTERMATHS))
 @pytest.mark.parametrize("signum, status, words", [
     (signal.SIGTERM, 143, "terminated by SIGTERM"),
     (signal.SIGHUP, 129, "terminated by SIGHUP"),
     (signal.SIGINT, 130, "interrupted"),
 ])
-def test_a_signal_swallowed_by_an_import_is_still_the_signal(monkeypatch, capsys, signum,
-                                                             status, words):
+def test_a_signal_swallowed_is_still_the_signal(monkeypatch, capsys, signum, status, words,
+                                                aftermath):
     from sielaff import cli
 
-    monkeypatch.setattr(cli, "_command", _swallowing(signum))
+    monkeypatch.setattr(cli, "_command", _swallowing(signum, aftermath))
     assert cli.main(["check", str(DECKS / "example.dat")]) == status
     err = capsys.readouterr().err
     assert err.startswith(f"sielaff: {words}; ") and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("aftermath, status", [("figure", 2), ("file", 2)])
+def test_an_error_without_a_signal_is_not_dressed_as_one(monkeypatch, capsys, aftermath,
+                                                         status):
+    from sielaff import cli
+
+    def command(args):
+        raise AFTERMATHS[aftermath]
+    monkeypatch.setattr(cli, "_command", lambda name: command)
+    assert cli.main(["check", str(DECKS / "example.dat")]) == status
+    err = capsys.readouterr().err
+    assert "terminated" not in err and err.count("\n") == 1, err
+    assert str(AFTERMATHS[aftermath].args[-1]) in err, err
 
 
 def test_an_import_error_without_a_signal_is_not_dressed_as_one(monkeypatch):
