@@ -115,6 +115,28 @@ def test_every_promise_holds_on_drawn_scenes():
     assert tally["off"] > 1000 and tally["on"] > 20 and tally["stopped"] >= 24, tally
 
 
+def test_a_grid_of_designs_keeps_the_promise_row_by_row():
+    """Designs in a column against angles in a row (design/figures.py asks so): each row
+    is the one design's answer alone, bit for bit, and the promise holds on the grid."""
+    tally: Counter[str] = Counter()
+    model = _checked(FOURBAR, tally)
+    r2 = np.array([3.5, 4.0, 4.5])
+    th = np.linspace(0.0, 355.0, 72)
+    sc = Scene(friction=PinFriction(0.3, 0.8), tex=20.0)
+    wanted = ["TORQ", "FRICTION_STATUS", "FRICTION_ITERATIONS"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        grid = analyze(EXAMPLE.replace(R2=r2[:, None]), th, wanted, scene=sc, model=model)
+        for i, v in enumerate(r2):
+            one = analyze(EXAMPLE.replace(R2=float(v)), th, wanted, scene=sc)
+            for name in wanted:
+                assert np.shape(grid[name]) == (3, 72), name
+                assert np.array_equal(np.asarray(grid[name][i]).view(np.int64),
+                                      np.asarray(one[name]).view(np.int64)), (name, v)
+    broken = {k: v for k, v in tally.items() if k not in ("off", "on", "stopped")}
+    assert not broken and tally["off"] + tally["on"] == 3 * 72, tally
+
+
 def test_a_broken_promise_is_caught():
     tally: Counter[str] = Counter()
     model = _checked(FOURBAR, tally, spoil=lambda r: (r[0] + 1.0,) + tuple(r[1:]))

@@ -14,7 +14,6 @@ import pytest
 
 from conftest import DECKS
 
-
 #: What the interrupted code raised instead of the signal.
 AFTERMATHS = {
     "import": ImportError("PyCapsule_Import could not import module \"datetime\""),

@@ -400,7 +400,7 @@ def _friction_solve(MUR_O2, MUR_A, MUR_B, MUR_O4, fa32x_p, fa32y_p, fb34x_p, fb3
             flat(fb34y_p, shape), flat(foax_p, shape), flat(foay_p, shape),
             flat(fobx_p, shape), flat(foby_p, shape), flat(torq_p, shape))
     iterations = flat(iterations_p, shape)
-    status = put(filled(shape, 0.0), friction_status_0, True)  # an output of its own
+    status = put(filled(shape, 0.0), flat(friction_status_0, shape), True)  # its own
     # where the law need not be a contraction, every solution it has (friction_solve.py)
     hard = positions(flat(friction_hard, shape) != 0.0)
     if not none(hard):
