@@ -169,3 +169,31 @@ def test_the_bound_is_not_vacuous(backend):
     m = EXAMPLE.replace(R1=12.0, R2=10.0, R3=0.3, R4=9.0, TH2D=50.0)
     worst, which, least = _check(m, "open", backend, -300.0, 40.0, True)
     assert least < 0.05 and 1e-3 <= worst <= 1.0, (which, worst, least)
+
+
+def test_the_four_bar_and_a_chain_of_dyads_share_one_scale_model():
+    """accuracy.scales (the four-bar's fields) and accuracy.chain_scales (any kind, read
+    from its fields and topology) are one model: the four-bar handed to chain_scales as a
+    chain of its one dyad (links 3 and 4), its TEX among the applied loads as the
+    four-bar's bound takes it (over the shorter of coupler and rocker), gives the same
+    scales, and its L / l is the four-bar's."""
+    from sielaff.engine.accuracy import chain_scales
+
+    class OneDyad:  # the four-bar's fields, as a kind of linkage carries them
+        TOPOLOGY = type("T", (), {"lengths": staticmethod(lambda: ("R2", "R3", "R4"))})
+
+        def __init__(self, m):
+            self.m = m
+
+        def as_dict(self):
+            return self.m.as_dict()
+
+    m = EXAMPLE
+    short = min(abs(m.R3), abs(m.R4))
+    four = scales(m, th2dd=35.0, tex=4.0, gravity=G, applied=20.0, reach=9.0)
+    chain, ratio = chain_scales(OneDyad(m), th2dd=35.0, gravity=G,
+                                applied=20.0 + 4.0 / short, reach=9.0)
+    assert four.keys() == chain.keys()
+    for kind, value in four.items():
+        assert chain[kind] == pytest.approx(value, rel=4 * np.finfo(float).eps), kind
+    assert ratio == (abs(m.R1) + abs(m.R2) + abs(m.R3) + abs(m.R4)) / short

@@ -100,14 +100,39 @@ def scales(m: Any, th2dd: float = 0.0, tex: float = 0.0, gravity: float = 0.0,
     # the lengths a velocity or an acceleration is a rate times: the links, and the
     # farthest point placed on one (a centre of mass, a load's or a spring's point)
     length = r1 + r2 + r3 + r4 + max(abs(float(getattr(m, f"RG{k}"))) for k in (2, 3, 4))
-    length += abs(reach)
-    w = abs(float(m.TH2D))
-    rate = r2 * w / short
-    angular = r2 * (w * w + abs(th2dd)) / short + rate * rate
     mass = sum(abs(float(getattr(m, f"W{k}"))) for k in (2, 3, 4)) / mass_divisor
     inertia = sum(abs(float(getattr(m, f"ZI{k}"))) for k in (2, 3, 4))
-    force = (mass * (length * angular + gravity) + inertia * angular / short + abs(tex) / short
-             + abs(applied))
+    return _scale_table(length + abs(reach), short, r2, abs(float(m.TH2D)), th2dd, mass,
+                        inertia, abs(gravity), abs(tex) / short + abs(applied))
+
+
+def _scale_table(length: float, short: float, crank: float, w: float, th2dd: float,
+                 mass: float, inertia: float, gravity: float, applied: float
+                 ) -> dict[str, float]:
+    """The scales S of every kind (the module doc's derivation), for any linkage: one
+    place for the model that :func:`scales` and :func:`chain_scales` share.
+
+    Parameters
+    ----------
+    length : float
+        L': the links' lengths and the farthest point placed on one [in or m].
+    short : float
+        l: the shortest dyad link [in or m].
+    crank : float
+        |R2| [in or m].
+    w, th2dd : float
+        |TH2D| [rad/sec] and the largest |TH2DD| [rad/sec^2].
+    mass, inertia : float
+        The links' masses (W / GW) and inertias, summed [lb-sec^2/in or kg; lb-in-sec^2
+        or kg m^2].
+    gravity : float
+        Gravity's magnitude [length/sec^2].
+    applied : float
+        The forces applied besides the weights, TEX over ``short`` among them [lb or N].
+    """
+    rate = crank * w / short
+    angular = crank * (w * w + abs(th2dd)) / short + rate * rate
+    force = mass * (length * angular + gravity) + inertia * angular / short + applied
     return {"angle": 1.0, "length": length, "rate": rate, "velocity": length * rate,
             "angular acceleration": angular, "acceleration": length * angular,
             "force": force, "torque": length * force}
@@ -167,13 +192,8 @@ def chain_scales(m: Any, th2dd: float = 0.0, gravity: float = 0.0,
     short = min(dyad) if dyad else max(abs(float(v["R1"]) - float(v["R2"])),
                                        1e-3 * abs(float(v["R1"])))
     length = sum(lengths) + max(abs(float(v[n])) for n in v if n.startswith("RG"))
-    length += abs(reach)
-    w = abs(float(v["TH2D"]))
-    rate = abs(float(v["R2"])) * w / short
-    angular = abs(float(v["R2"])) * (w * w + abs(th2dd)) / short + rate * rate
     mass = sum(abs(float(v[n])) for n in v if n.startswith("W")) / mass_divisor
     inertia = sum(abs(float(v[n])) for n in v if n.startswith("ZI"))
-    force = mass * (length * angular + abs(gravity)) + inertia * angular / short + abs(applied)
-    return ({"angle": 1.0, "length": length, "rate": rate, "velocity": length * rate,
-             "angular acceleration": angular, "acceleration": length * angular,
-             "force": force, "torque": length * force}, sum(lengths) / short)
+    return (_scale_table(length + abs(reach), short, abs(float(v["R2"])),
+                         abs(float(v["TH2D"])), th2dd, mass, inertia, abs(gravity),
+                         abs(applied)), sum(lengths) / short)

@@ -149,6 +149,17 @@ def _capture_intrinsic():
     return capture
 
 
+def _nontemporal(store):
+    """``store`` (an llvmlite store) marked non-temporal (``!nontemporal !{i32 1}``): x86
+    writes it around the caches (MOVNTI, VMOVNTPD).  The one place both streaming
+    intrinsics take the hint from."""
+    import llvmlite.ir as ir
+
+    one = ir.Constant(ir.IntType(32), 1)
+    store.set_metadata("nontemporal", store.module.add_metadata([one]))
+    return store
+
+
 def _streaming():
     """(_copy_out, _fence) for the kernel's copy of a staged chunk into its outputs.
 
@@ -171,8 +182,7 @@ def _streaming():
         alignment) up to the first 32-byte boundary of ``to``, then four doubles a store
         (VMOVNTPS, which needs that alignment), then MOVNTI for the rest; MOVNTI all the
         way for a destination not aligned to 8 bytes."""
-        i64, one = ir.IntType(64), ir.Constant(ir.IntType(32), 1)
-        hint = builder.module.add_metadata([one])
+        i64 = ir.IntType(64)
         vec = ir.VectorType(ir.DoubleType(), 4)
         addr = builder.ptrtoint(to, i64)
         aligned8 = builder.icmp_unsigned("==", builder.and_(addr, ir.Constant(i64, 7)),
@@ -188,16 +198,15 @@ def _streaming():
             with cgutils.for_range(builder, count) as loop:
                 i = builder.add(first, loop.index)
                 v = builder.load(builder.bitcast(builder.gep(at, [i]), i64.as_pointer()))
-                st = builder.store(v, builder.bitcast(builder.gep(to, [i]), i64.as_pointer()))
-                st.set_metadata("nontemporal", hint)
+                _nontemporal(builder.store(v, builder.bitcast(builder.gep(to, [i]),
+                                                              i64.as_pointer())))
 
         scalars(ir.Constant(i64, 0), lead)
         with cgutils.for_range(builder, quads) as loop:
             i = builder.add(lead, builder.mul(loop.index, ir.Constant(i64, 4)))
             v = builder.load(builder.bitcast(builder.gep(at, [i]), vec.as_pointer()), align=8)
-            st = builder.store(v, builder.bitcast(builder.gep(to, [i]), vec.as_pointer()),
-                               align=32)
-            st.set_metadata("nontemporal", hint)
+            _nontemporal(builder.store(v, builder.bitcast(builder.gep(to, [i]),
+                                                          vec.as_pointer()), align=32))
         scalars(body, builder.sub(n, body))
 
     @intrinsic
@@ -276,7 +285,6 @@ def _streamed_store():
     anything could use that, and only the widened stores run (their bits and the packed
     stores in the assembly: tests/test_compiled_streaming.py).  No bounds check.  On a CPU
     other than x86-64: a plain store, no promise."""
-    import llvmlite.ir as ir
     from numba.core import types
     from numba.extending import intrinsic
 
@@ -293,9 +301,7 @@ def _streamed_store():
             x = context.cast(builder, x, sig.args[2], types.float64)
             to = builder.gep(da.data, [k], inbounds=True)
             if X86:
-                st = builder.store(x, to, align=STREAM_ALIGN)
-                st.set_metadata("nontemporal",
-                                builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)]))
+                _nontemporal(builder.store(x, to, align=STREAM_ALIGN))
             else:
                 builder.store(x, to, align=8)
             return context.get_dummy_value()
