@@ -126,7 +126,7 @@ def _scale_table(length: float, short: float, crank: float, w: float, th2dd: flo
         The links' masses (W / GW) and inertias, summed [lb-sec^2/in or kg; lb-in-sec^2
         or kg m^2].
     gravity : float
-        Gravity's magnitude [length/sec^2].
+        Gravity's magnitude [in/sec^2 or m/sec^2].
     applied : float
         The forces applied besides the weights, TEX over ``short`` among them [lb or N].
     """
