@@ -4,7 +4,9 @@ one whose handler runs in a weakref callback (matplotlib's transforms) is sent a
 moment later, and the figure it cut short may fail first with an error of its own
 ("Invalid bounding box").  The command reports the signal in one line, with its status, and
 no traceback (both found by test_spec_sweep_and_output_failures' SIGTERM trials: under load,
-and on CI)."""
+and on CI).  One that lands inside an extension's initialisation leaves a half-made module
+that aborts the interpreter as it finalises; the process ends without finalising (found on
+CI the same way)."""
 
 from __future__ import annotations
 
@@ -100,3 +102,45 @@ def test_a_signal_inside_a_finaliser_still_unwinds_the_command():
                        timeout=60)
     assert r.stdout.split() == ["terminated", "143"], r.stdout + r.stderr
     assert r.stderr == "", r.stderr
+
+
+FT2FONT_SCRIPT = """
+import os, signal, sys
+state = {"loading": False, "sent": False}
+def audit(event, args):
+    if event == "import" and args[0] == "matplotlib.ft2font":
+        state["loading"] = True
+sys.addaudithook(audit)
+def profile(frame, event, arg):
+    # the first Python function ft2font's initialisation calls (pybind11's enums)
+    if (event == "call" and state["loading"] and not state["sent"]
+            and not frame.f_code.co_filename.startswith("<") and frame.f_back is not None
+            and frame.f_back.f_code.co_name == "_call_with_frames_removed"):
+        state["sent"] = True
+        sys.setprofile(None)
+        os.write(1, b"sent inside ft2font's initialisation\\n")
+        os.kill(os.getpid(), signal.SIGTERM)
+sys.setprofile(profile)
+from sielaff.cli import entry
+sys.argv = ["sielaff", *sys.argv[1:]]
+entry()
+"""
+
+
+def test_a_signal_inside_an_extensions_initialisation_ends_with_its_status(tmp_path):
+    """SIGTERM sent while matplotlib's ft2font initialises (its pybind11 enums run Python
+    code, where the handler raises): the import fails, the command says so in one line and
+    ends with 143; finalising the half-made module would abort the interpreter after the
+    message ("Fatal Python error: PyThreadState_Get", status -6), so the process does not
+    finalise."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("matplotlib")
+    r = subprocess.run([sys.executable, "-c", FT2FONT_SCRIPT, "plot", str(DECKS / "example.dat"),
+                        "-o", str(tmp_path), "--only", "kinematics"], capture_output=True,
+                       text=True, timeout=120)
+    assert r.stdout == "sent inside ft2font's initialisation\n", r.stdout + r.stderr  # drawn
+    assert r.stderr == "sielaff: terminated by SIGTERM; no output file was changed\n", r.stderr
+    assert r.returncode == 143
+    assert list(tmp_path.iterdir()) == []

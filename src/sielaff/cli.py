@@ -570,4 +570,11 @@ def entry() -> None:
         status = main()
     except (KeyboardInterrupt, Terminated) as exc:
         status = _said_signal(exc.signum if isinstance(exc, Terminated) else signal.SIGINT)
+    if SIGNAL_STATE["raised"] is not None:
+        # The signal may have broken into a C extension's initialisation (matplotlib's
+        # ft2font runs enum code as it loads), and finalising the half-made module aborts
+        # the interpreter ("Fatal Python error: PyThreadState_Get", status -6) after the
+        # message.  The outputs are settled and the message said: end without finalising.
+        _flush()
+        os._exit(status)
     sys.exit(status)
