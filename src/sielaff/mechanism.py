@@ -156,6 +156,8 @@ def validate(m: Mechanism) -> None:
                          f"{', '.join(STANDARD_GRAVITY)}")
     for name in FIELD_NAMES:
         value = getattr(m, name)
+        if plainly_valid(value, name in LENGTHS, name in NONNEGATIVE):
+            continue
         if value is None:
             raise ValueError(f"{name} is missing: every field of the Mechanism needs a value")
         try:
@@ -172,6 +174,16 @@ def validate(m: Mechanism) -> None:
             raise ValueError(f"{name} = {_first_bad(v, ~(v >= 0.0))} "
                              f"{field_unit(name, UNITS[name], m.units)}: weights "
                              "and moments of inertia cannot be negative")
+
+
+def plainly_valid(value: Any, positive: bool, nonnegative: bool) -> bool:
+    """Whether ``value`` is a plain float that passes a field's checks: finite, and > 0
+    (``positive``) or >= 0 (``nonnegative``) as asked.  The validators take this path
+    first; anything else (an array, an int, a bad value) gets their checks, which name it.
+    A design of plain numbers is then checked without numpy's cost per call, which a
+    small analysis would pay for every field."""
+    return type(value) is float and math.isfinite(value) and (
+        not positive or value > 0.0) and (not nonnegative or value >= 0.0)
 
 
 def _first_bad(v, bad) -> str:

@@ -31,7 +31,7 @@ from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 from sielaff.linkage import RRP, Crank, Guide, Topology
-from sielaff.mechanism import STANDARD_GRAVITY, field_unit
+from sielaff.mechanism import STANDARD_GRAVITY, field_unit, plainly_valid
 
 __all__ = ["FIELD_NAMES", "KIND", "SLIDER_EXAMPLE", "SPEC_NAMES", "TOPOLOGY", "UNITS",
            "SliderCrank", "Stroke", "full_turn_failure", "stroke", "validate_slider"]
@@ -141,6 +141,9 @@ def validate_slider(m: SliderCrank) -> None:
     values = {}
     for name in FIELD_NAMES:
         value = getattr(m, name)
+        if plainly_valid(value, name in _LENGTHS, name in _NONNEGATIVE):
+            values[name] = np.asarray(value)
+            continue
         if value is None:
             raise ValueError(f"SliderCrank.{name} is missing: every field needs a value")
         try:
