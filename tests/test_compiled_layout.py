@@ -299,7 +299,7 @@ def _loops(src: str) -> list[tuple[int, str]]:
 
 
 def test_friction_runs_as_passes_and_its_serial_solve_in_a_loop_of_its_own():
-    """Pin friction's five steps: its start and its check with the steps before it, its
+    """Pin friction's six steps: its start, frame and check with the steps before it, its
     fixed point as passes over the chunk (engine/iterate.py; tests/test_iterate.py), the
     solve where the law need not contract (array code, serial, called only there:
     tests/test_only_where.py) in a loop of its own, what it needs

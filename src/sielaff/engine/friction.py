@@ -32,12 +32,13 @@ answer), ``FRICTION_STATUS`` and ``FRICTION_SOLUTIONS``.  With mu = 0 at
 every pin (or no friction) no step here runs and every output is bit for bit as
 without friction.
 
-The effect's steps are written once for both engines: the start, the fixed point's
-pass (an iterated step, :mod:`sielaff.engine.iterate`: over arrays the positions still
-iterating, in the compiled kernel passes over a chunk), the check of where the law need
-not contract, the solve there (array code, given an array of one by the kernel, which
-calls it only at those positions: ``only_where``) and the losses, compiled by
-the numba backend for one position with :mod:`sielaff.engine.arith`'s operations in
+The effect's steps are written once for both engines: the start, the frame (each pin's
+sign and the geometry every pass takes as it is), the fixed point's pass (an iterated
+step, :mod:`sielaff.engine.iterate`: over arrays the positions still iterating, in the
+compiled kernel passes over a chunk), the check of where the law need not contract, the
+solve there (array code, given an array of one by the kernel, which calls it only at
+those positions: ``only_where``) and the losses, compiled by the numba backend for one
+position with :mod:`sielaff.engine.arith`'s operations in
 their one-position forms.  The FrictionWarning is declared with the solve's step
 (``warns``) and issued by the model after it, on either backend.
 """
@@ -68,7 +69,7 @@ from sielaff.engine.declare import Fact, Param, SpecForm
 from sielaff.engine.friction_solve import contraction, solve
 from sielaff.engine.iterate import iterated
 from sielaff.engine.registry import Effect, step, step_of
-from sielaff.engine.statics import pins
+from sielaff.engine.statics import pins, pins_on
 from sielaff.engine.values import check_value
 
 __all__ = ["PINS", "FrictionWarning", "PinFriction"]
@@ -235,6 +236,13 @@ def _forces(t, sg, g):
                 g[5], g[6], g[7], g[8], g[9])
 
 
+def _forces_on(t, sg, R2, c2, s2, uv):
+    """:func:`_forces` given ``uv``, pins_on's (ux, uy, vx, vy, d): the same numbers."""
+    m2, m3, m4 = couples(t, sg)
+    return pins_on(0.0, 0.0, m2, 0.0, 0.0, m3, 0.0, 0.0, m4, R2, c2, s2, uv[0], uv[1], uv[2],
+                   uv[3], uv[4])
+
+
 def _plus(f, c):
     """The eight pin-force components ``f`` plus the couples' share ``c``."""
     return (f[0] + c[0], f[1] + c[1], f[2] + c[2], f[3] + c[3], f[4] + c[4], f[5] + c[5],
@@ -304,17 +312,20 @@ _MUR = ("MUR_O2", "MUR_A", "MUR_B", "MUR_O4")
 _F0 = ("FA32X_0", "FA32Y_0", "FB34X_0", "FB34Y_0", "FOAX_0", "FOAY_0", "FOBX_0", "FOBY_0")
 _GEO = ("R2", "R3", "R4", "c2", "s2", "c3", "s3", "c4", "s4", "s34")
 _RATES = ("TH2D", "TH3D", "TH4D")
+# each pin's sign of rotation (_signs) and pins_on's geometry: the same at every pass
+_SG = ("sg_o2", "sg_a", "sg_b", "sg_o4")
+_UV = ("fr_ux", "fr_uy", "fr_vx", "fr_vy", "fr_d")
 # the nine corrections (the eight pin-force components, TORQ's) of the fixed point, then
 # of the solve where the law need not contract
 _FIXED = ("fa32x_p", "fa32y_p", "fb34x_p", "fb34y_p", "foax_p", "foay_p", "fobx_p",
           "foby_p", "torq_p")
 _SOLVED = tuple(n[:-2] + "_h" for n in _FIXED)
 
-# The effect runs in five steps, so that the compiled kernel vectorises all but the
-# solve where the law need not contract (array code, rare): the start, the fixed point
-# (an iterated step: engine/iterate.py), the check of where the law need not contract
-# (vectorised, so that the kernel calls the solve only there: only_where), that solve,
-# and the losses.
+# The effect runs in six steps, so that the compiled kernel vectorises all but the
+# solve where the law need not contract (array code, rare): the start, the frame (what
+# every pass takes as it is, computed once), the fixed point (an iterated step:
+# engine/iterate.py), the check of where the law need not contract (vectorised, so that
+# the kernel calls the solve only there: only_where), that solve, and the losses.
 
 
 def _all_finite(values):
@@ -338,16 +349,30 @@ def _friction_start(MUR_O2, MUR_A, MUR_B, MUR_O4, FA32X_0, FA32Y_0, FB34X_0, FB3
     return t[0], t[1], t[2], t[3], np.where(finite, 1.0, 0.0)
 
 
+@step(provides=_SG + _UV, needs=_MUR + _RATES + ("R3", "R4", "c3", "s3", "c4", "s4", "s34"),
+      zero_when=_MUR)
+def _friction_frame(MUR_O2, MUR_A, MUR_B, MUR_O4, TH2D, TH3D, TH4D, R3, R4, c3, s3, c4, s4,
+                    s34):
+    """What every pass of the fixed point takes as it is: the pins' signs (_signs) and
+    pins_on's u = B - A, v = B - O4 and d = v x u, as statics.pins computes them."""
+    sg = _signs(TH2D, TH3D, TH4D)
+    return (sg[0], sg[1], sg[2], sg[3], R3 * c3, R3 * s3, R4 * c4, R4 * s4,
+            s34 * (R3 * R4))
+
+
 @iterated(provides=_FIXED + ("iterations_p",), limit="friction_max_iter",
           go="friction_go", start=("ft_o2_0", "ft_a_0", "ft_b_0", "ft_o4_0"),
-          consts=_F0 + _RATES + _GEO + _MUR + ("friction_tol",), zero_when=_MUR)
+          consts=_F0 + _SG + ("R2", "c2", "s2") + _UV + _MUR + ("friction_tol",),
+          zero_when=_MUR)
 def _friction_fixed_point(t_O2, t_A, t_B, t_O4, FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0,
-                          FOAY_0, FOBX_0, FOBY_0, TH2D, TH3D, TH4D, R2, R3, R4, c2, s2, c3,
-                          s3, c4, s4, s34, MUR_O2, MUR_A, MUR_B, MUR_O4, friction_tol):
+                          FOAY_0, FOBX_0, FOBY_0, sg_o2, sg_a, sg_b, sg_o4, R2, c2, s2,
+                          fr_ux, fr_uy, fr_vx, fr_vy, fr_d, MUR_O2, MUR_A, MUR_B, MUR_O4,
+                          friction_tol):
     """One pass of the fixed point: the couples T give the pin forces, and those the new
     couples; done where no couple changed by more than tol times the largest."""
     t = (t_O2, t_A, t_B, t_O4)
-    c = _forces(t, _signs(TH2D, TH3D, TH4D), (R2, R3, R4, c2, s2, c3, s3, c4, s4, s34))
+    c = _forces_on(t, (sg_o2, sg_a, sg_b, sg_o4), R2, c2, s2,
+                   (fr_ux, fr_uy, fr_vx, fr_vy, fr_d))
     new = _torques((MUR_O2, MUR_A, MUR_B, MUR_O4), _plus(
         (FA32X_0, FA32Y_0, FB34X_0, FB34Y_0, FOAX_0, FOAY_0, FOBX_0, FOBY_0), c))
     change = _largest((np.abs(new[0] - t[0]), np.abs(new[1] - t[1]),
@@ -615,7 +640,8 @@ max_iter = 100                # ... and its iterations (PinFriction)
 # [scene.friction.O2]  mu = 0.1  radius = 0.5      (pins O2, A, B, O4)"""
 
 
-EFFECT = Effect("pin friction", (step_of(_friction_start), step_of(_friction_fixed_point),
+EFFECT = Effect("pin friction", (step_of(_friction_start), step_of(_friction_frame),
+                                   step_of(_friction_fixed_point),
                                    step_of(_friction_check), step_of(_friction_solve),
                                    step_of(_friction_losses),
                                    step_of(_friction_solutions)), _seed,

@@ -24,6 +24,12 @@ def pins(F2X, F2Y, M2, F3X, F3Y, M3, F4X, F4Y, M4, R2, R3, R4, c2, s2, c3, s3, c
     ux, uy = R3 * c3, R3 * s3  # B - A
     vx, vy = R4 * c4, R4 * s4  # B - O4
     d = s34 * (R3 * R4)  # (B - O4) x (B - A)
+    return pins_on(F2X, F2Y, M2, F3X, F3Y, M3, F4X, F4Y, M4, R2, c2, s2, ux, uy, vx, vy, d)
+
+
+def pins_on(F2X, F2Y, M2, F3X, F3Y, M3, F4X, F4Y, M4, R2, c2, s2, ux, uy, vx, vy, d):
+    """:func:`pins` given the coupler's and rocker's vectors u = B - A, v = B - O4 and
+    d = v x u, which it computes (an iteration of the same geometry computes them once)."""
     f34x = (-M4 * ux - vx * M3) / d
     f34y = (-vy * M3 - uy * M4) / d
     f32x, f32y = F3X - f34x, F3Y - f34y
